@@ -1,0 +1,128 @@
+/* Sky queries for all wavelengths of an sl_atmosphere: transparency (eq. 11), sunlight (eq. 12),
+ * in-scattered sky light (eqs. 14-15, corrected) and the direct sun (section 4.2.4). */
+#include <math.h>
+
+#include "sl_sky.h"
+
+static int finite3(const double v[3])
+{
+  return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* Directions come from callers' arithmetic: accept unit length to 1e-6 and renormalise. */
+static int unit_direction(const double v[3], double out[3], const char *what, sl_error *err)
+{
+  if (!finite3(v)) return sl_fail(err, SL_ERR_ARG, "sky: %s is not finite", what);
+  double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(fabs(n - 1.0) <= 1e-6))
+    return sl_fail(err, SL_ERR_ARG, "sky: %s has length %g, not 1", what, n);
+  for (int i = 0; i < 3; ++i) out[i] = v[i] / n;
+  return SL_OK;
+}
+
+int sl_sky_transparency(const sl_atmosphere *atm, const double a[3], const double b[3],
+                        double *transparency, sl_error *err)
+{
+  if (!atm || !a || !b || !transparency) return sl_fail(err, SL_ERR_ARG, "sky: NULL argument");
+  if (!finite3(a) || !finite3(b)) return sl_fail(err, SL_ERR_ARG, "sky: point is not finite");
+  double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  double distance = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  double gamma = 1.0 / atm->scale_height;
+  for (int i = 0; i < atm->count; ++i)
+    transparency[i] = exp(-sl_sky_optical_depth(atm->beta_sea_level[i], gamma, a[2], b[2], distance));
+  return SL_OK;
+}
+
+int sl_sky_sunlight(const sl_atmosphere *atm, const double p[3], const double sun_dir[3],
+                    double *irradiance, int *night, sl_error *err)
+{
+  if (!atm || !p || !sun_dir || !irradiance) return sl_fail(err, SL_ERR_ARG, "sky: NULL argument");
+  double sun[3];
+  if (!finite3(p)) return sl_fail(err, SL_ERR_ARG, "sky: point is not finite");
+  int status = unit_direction(sun_dir, sun, "sun direction", err);
+  if (status) return status;
+  double airmass = sl_sky_airmass(atm, p[2], sun[2]);
+  double gamma = 1.0 / atm->scale_height;
+  for (int i = 0; i < atm->count; ++i)
+    irradiance[i] = isinf(airmass) ? 0.0
+                                   : atm->sun_irradiance[i] *
+                                         exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[i], gamma,
+                                                                       p[2], airmass));
+  if (night) *night = isinf(airmass);
+  return SL_OK;
+}
+
+int sl_sky_segment(const sl_atmosphere *atm, const double eye[3], const double dir[3],
+                   double distance, const double sun_dir[3], double *radiance,
+                   double *transparency, int *night, sl_error *err)
+{
+  if (!atm || !eye || !dir || !sun_dir) return sl_fail(err, SL_ERR_ARG, "sky: NULL argument");
+  double view[3], sun[3];
+  if (!finite3(eye)) return sl_fail(err, SL_ERR_ARG, "sky: eye is not finite");
+  int status = unit_direction(dir, view, "view direction", err);
+  if (!status) status = unit_direction(sun_dir, sun, "sun direction", err);
+  if (status) return status;
+  if (!(distance >= 0.0)) return sl_fail(err, SL_ERR_ARG, "sky: segment length %g is negative", distance);
+
+  double gamma = 1.0 / atm->scale_height;
+  double mu = view[2];
+  double length = sl_sky_segment_length(eye[2], mu, distance);
+  double airmass = sl_sky_airmass(atm, eye[2], sun[2]);
+  double cos_view_sun = view[0] * sun[0] + view[1] * sun[1] + view[2] * sun[2];
+  for (int i = 0; i < atm->count; ++i) {
+    double beta = atm->beta_sea_level[i];
+    if (radiance)
+      radiance[i] = atm->sun_irradiance[i] *
+                    sl_sky_inscatter(beta, gamma, eye[2], mu, length, airmass, cos_view_sun);
+    if (transparency) {
+      /* An infinite segment upward reaches the top of the atmosphere; horizontally it never
+       * leaves the flat atmosphere and is opaque. */
+      double depth = isinf(length) ? (mu > 0.0 ? beta * exp(-gamma * eye[2]) / (gamma * mu) : INFINITY)
+                                   : sl_sky_optical_depth(beta, gamma, eye[2], eye[2] + mu * length, length);
+      transparency[i] = exp(-depth);
+    }
+  }
+  if (night) *night = isinf(airmass);
+  return SL_OK;
+}
+
+double sl_sun_disk_solid_angle(void)
+{
+  const double radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
+  /* 2 pi (1 - cos r), written with sin^2 to avoid the cancellation of 1 - cos for small r. */
+  double s = sin(0.5 * radius);
+  return 4.0 * 3.14159265358979323846 * s * s;
+}
+
+int sl_sky_in_sun_disk(const double dir[3], const double sun_dir[3])
+{
+  const double radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
+  if (!(sun_dir[2] > 0.0)) return 0;
+  /* Compare chord lengths, not the cosine: cos(0.25 deg) = 0.9999905 leaves 5 digits. */
+  double dx = dir[0] - sun_dir[0], dy = dir[1] - sun_dir[1], dz = dir[2] - sun_dir[2];
+  double chord = 2.0 * sin(0.5 * radius);
+  return dx * dx + dy * dy + dz * dz <= chord * chord;
+}
+
+int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], const double dir[3],
+                             const double sun_dir[3], double *radiance)
+{
+  int inside = sl_sky_in_sun_disk(dir, sun_dir);
+  double airmass = inside ? sl_sky_airmass(atm, eye[2], sun_dir[2]) : INFINITY;
+  double gamma = 1.0 / atm->scale_height, omega = sl_sun_disk_solid_angle();
+  for (int i = 0; i < atm->count; ++i)
+    radiance[i] = isinf(airmass) ? 0.0
+                                 : atm->sun_irradiance[i] / omega *
+                                       exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[i], gamma,
+                                                                     eye[2], airmass));
+  return inside && !isinf(airmass);
+}
+
+void sl_sun_direction(double elevation_deg, double azimuth_deg, double out[3])
+{
+  const double rad = 3.14159265358979323846 / 180.0;
+  double ce = cos(elevation_deg * rad);
+  out[0] = ce * sin(azimuth_deg * rad);
+  out[1] = ce * cos(azimuth_deg * rad);
+  out[2] = sin(elevation_deg * rad);
+}

@@ -1,0 +1,91 @@
+/* Per-sample atmospheric light, Riley et al. 2004 eqs. 1, 9-15. Plain-C subset meant to compile
+ * as GLSL later (no pointers, scalars only). Derivations: docs/SKY.md. */
+#include "sl_sky_sample.h"
+
+#include <math.h>
+
+double sl_sky_exprel(double x)
+{
+  /* Below |x| = 0.05 the direct form loses up to 2 digits to cancellation in 1 - exp(-x); the
+   * Taylor series to x^7 has a truncation error below 0.05^8 / 9! = 1.1e-16 there. */
+  if (x > -0.05 && x < 0.05)
+    return 1.0 +
+           x * (-1.0 / 2.0 +
+                x * (1.0 / 6.0 +
+                     x * (-1.0 / 24.0 +
+                          x * (1.0 / 120.0 +
+                               x * (-1.0 / 720.0 + x * (1.0 / 5040.0 + x * (-1.0 / 40320.0)))))));
+  return (1.0 - exp(-x)) / x;
+}
+
+double sl_sky_rayleigh_phase(double cos_theta)
+{
+  /* Riley et al. 2004, eq. 1 */
+  return 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
+}
+
+double sl_sky_path_length_factor(double inv_scale_height, double dz, double distance)
+{
+  return distance * sl_sky_exprel(inv_scale_height * dz);
+}
+
+double sl_sky_optical_depth(double beta_sea_level, double inv_scale_height, double z0, double z1,
+                            double distance)
+{
+  /* Riley et al. 2004, eq. 11, written as beta(z0) * K * exprel(gamma * (z1 - z0)): the printed
+   * form divides by p_y = (z1 - z0) / K and is 0/0 for a horizontal segment. */
+  return beta_sea_level * exp(-inv_scale_height * z0) *
+         sl_sky_path_length_factor(inv_scale_height, z1 - z0, distance);
+}
+
+double sl_sky_sun_optical_depth(double beta_sea_level, double inv_scale_height, double z,
+                                double airmass)
+{
+  /* Riley et al. 2004, eq. 12: beta(z) / (gamma * l_y), with 1 / l_y generalised to an air mass
+   * so the round earth (Chapman function) uses the same formula. */
+  if (isinf(airmass)) return airmass;
+  return beta_sea_level * exp(-inv_scale_height * z) * airmass / inv_scale_height;
+}
+
+double sl_sky_segment_length(double z_eye, double mu, double distance)
+{
+  if (mu < 0.0) {
+    double to_ground = z_eye > 0.0 ? z_eye / -mu : 0.0;
+    return distance < to_ground ? distance : to_ground;
+  }
+  return distance;
+}
+
+double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
+                        double distance, double airmass, double cos_view_sun)
+{
+  /* Riley et al. 2004, eqs. 14-15, corrected (docs/SKY.md): substituting u = exp(-gamma mu t)
+   * into eq. 14 gives exp(-beta_eye / (gamma mu)) * l / (l - mu) * (e^a - e^{a u_K}); the printed
+   * eq. 15 drops the first factor. We write the exact result as exp(-min(c, e)) * D *
+   * exprel(|e - c|), which has no division by mu or by (mu - l). */
+  double gamma = inv_scale_height;
+  double beta_eye = beta_sea_level * exp(-gamma * z_eye);
+  if (!(beta_eye > 0.0) || !(distance > 0.0) || isinf(airmass)) return 0.0;
+
+  double rise = mu == 0.0 ? 0.0 : gamma * mu * distance; /* gamma * (z_far - z_eye) */
+  double length;                                           /* D */
+  if (isinf(distance))
+    length = mu > 0.0 ? 1.0 / (gamma * mu) : distance;
+  else
+    length = distance * sl_sky_exprel(rise);
+  double far_density = exp(-rise); /* beta_K / beta_eye */
+
+  double tau = beta_eye * length;
+  double sun_depth_eye = beta_eye * airmass / gamma;
+  double sun_depth_far = tau + beta_eye * far_density * airmass / gamma;
+  double slope = 1.0 - mu * airmass; /* (e - c) / tau */
+  double spread = tau * slope;
+
+  double attenuation = spread >= 0.0 ? exp(-sun_depth_eye) : exp(-sun_depth_far);
+  double gathered; /* D * exprel(|e - c|) = integral of exp(-|e - c| t / K) dt over the segment */
+  if (isinf(length))
+    gathered = 1.0 / (beta_eye * fabs(slope));
+  else
+    gathered = length * sl_sky_exprel(fabs(spread));
+  return sl_sky_rayleigh_phase(cos_view_sun) * beta_eye * attenuation * gathered;
+}

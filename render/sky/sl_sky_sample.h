@@ -1,0 +1,65 @@
+/* Per-sample atmospheric light: Riley et al. 2004, eqs. 1, 9-15, in a plain-C subset.
+ *
+ * Everything here takes and returns scalars (double), uses no pointers, no varargs, no library
+ * calls beyond exp/sqrt/abs and isinf, so that a later issue can compile the same text as GLSL
+ * (sky_sample.c holds the bodies). Units: metres, m^-1; heights z are above sea level; the
+ * direction cosine mu is the z component (up) of the unit view direction, p_Omega_y in the
+ * paper.
+ *
+ * Night is encoded as an infinite air mass: every function here then returns zero light, never
+ * NaN. See docs/SKY.md for the derivations. */
+#ifndef SL_SKY_SAMPLE_H
+#define SL_SKY_SAMPLE_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* (1 - exp(-x)) / x, equal to 1 at x = 0, accurate to a few ulp for every x (series near 0,
+ * where the direct form cancels). The one helper every closed form below is written with. */
+double sl_sky_exprel(double x);
+
+/* Riley eq. 1, Rayleigh phase function (sr^-1) of the cosine of the scattering angle. Owned
+ * by render/optics for particles; repeated here because the sky must not depend on optics. */
+double sl_sky_rayleigh_phase(double cos_theta);
+
+/* The length factor D of an exponential atmosphere along a straight segment that rises dz over
+ * distance K: integral_0^K exp(-gamma * dz * t / K) dt = K * exprel(gamma * dz). The optical
+ * depth of the segment is beta(z_start) * D. Stable for horizontal (dz = 0) and long segments. */
+double sl_sky_path_length_factor(double inv_scale_height, double dz, double distance);
+
+/* Riley eq. 11: optical depth between two points at heights z0 and z1 a distance apart
+ * (flat earth). Symmetric in the two points. Transparency is exp(-this). */
+double sl_sky_optical_depth(double beta_sea_level, double inv_scale_height, double z0, double z1,
+                            double distance);
+
+/* Riley eq. 12 exponent: optical depth from height z to the sun along a path of the given air
+ * mass (1/cos(zenith) for the flat earth, the Chapman function for the round one). Sunlight at
+ * the point is I * exp(-this). Infinite air mass (night) gives infinity. */
+double sl_sky_sun_optical_depth(double beta_sea_level, double inv_scale_height, double z,
+                                double airmass);
+
+/* Length of the view segment that the sky integral covers: `distance` itself, except that a
+ * downward ray (mu < 0) stops at sea level (the flat ground), and an infinite distance upward
+ * means the top of the atmosphere (kept infinite: the closed form handles it). */
+double sl_sky_segment_length(double z_eye, double mu, double distance);
+
+/* Riley eqs. 14-15, corrected: single-scattered sunlight gathered along the segment from an eye
+ * at height z_eye along a ray of direction cosine mu for `distance` metres (may be infinite),
+ * per unit top-of-atmosphere sun irradiance, for a sun of the given air mass and scattering-angle
+ * cosine cos_view_sun (view direction dotted with the direction toward the sun).
+ *
+ *   L = P(cos) * beta_eye * exp(-min(c, e)) * D * exprel(|e - c|)
+ *   c = beta_eye * m / gamma            (sun optical depth at the eye)
+ *   e = tau_K + beta_K * m / gamma      (optical depth eye -> far end -> sun)
+ *   D = K * exprel(gamma * mu * K),  tau_K = beta_eye * D,  e - c = tau_K * (1 - mu * m)
+ *
+ * which is the paper's eq. 15 times the missing factor exp(-beta_eye / (gamma * mu)), rewritten
+ * without the divisions by mu and by (mu - l) that make the printed form singular. */
+double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
+                        double distance, double airmass, double cos_view_sun);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

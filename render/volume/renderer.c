@@ -1,0 +1,433 @@
+/* Half-angle slicing on the CPU. Per slice, the eye pass gathers light scattered toward the
+ * camera from the slice, reading the light buffer (transparency from the sun to the slice),
+ * then the light pass attenuates the light buffer through the slice. Every pixel and texel is
+ * independent within a pass, so the image does not depend on the number of threads. */
+#include "sl_renderer.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct sl_renderer {
+  sl_scene scene;
+  sl_volume shape;      /* the lattice of the volume, without fields */
+  float *beta;          /* total extinction, m^-1 */
+  sl_grid_view beta_view;
+  double lo[3], hi[3];  /* the volume's box */
+  int any_extinction;
+};
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+static int normalize3(double v[3])
+{
+  const double n = sqrt(dot3(v, v));
+  if (!(n > 0.0) || !isfinite(n)) return 1;
+  v[0] /= n, v[1] /= n, v[2] /= n;
+  return 0;
+}
+
+int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err)
+{
+  const size_t n = sl_volume_count(v);
+  memset(beta_out, 0, n * sizeof(float));
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+    if (!v->eta[p]) continue;
+    const double sigma = sl_particle_properties((sl_particle)p)->sigma_ext_m2;
+    for (size_t i = 0; i < n; ++i) {
+      const float eta = v->eta[p][i];
+      if (!(eta >= 0.0f) || !isfinite(eta))
+        return sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
+                       sl_particle_name((sl_particle)p), i);
+      beta_out[i] += (float)(eta * sigma); /* Riley et al. 2004, eqs. 2-3 */
+    }
+  }
+  return SL_OK;
+}
+
+void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out)
+{
+  const double p[3] = {-sun_dir[0], -sun_dir[1], -sun_dir[2]}; /* light propagation */
+  const double vp = dot3(view_dir, p);
+  const double sign = vp >= 0.0 ? 1.0 : -1.0;
+  double h[3] = {sign * view_dir[0] + p[0], sign * view_dir[1] + p[1], sign * view_dir[2] + p[2]};
+  normalize3(h);
+  memcpy(out->half_vector, h, sizeof h);
+  out->back_to_front = sign < 0.0;
+  double c = dot3(view_dir, sun_dir);
+  c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+  out->eye_sun_angle_deg = acos(c) * 180.0 / M_PI;
+}
+
+sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
+{
+  if (!scene || !scene->volume) {
+    sl_fail(err, SL_ERR_ARG, "renderer: no volume");
+    return NULL;
+  }
+  double sun[3] = {scene->sun_direction[0], scene->sun_direction[1], scene->sun_direction[2]};
+  if (normalize3(sun)) {
+    sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
+    return NULL;
+  }
+  if (scene->slices < 0 || scene->slices > 16384) {
+    sl_fail(err, SL_ERR_ARG, "renderer: %d slices is out of range (1..16384)", scene->slices);
+    return NULL;
+  }
+  if (scene->light_resolution < 0 || scene->light_resolution > 8192) {
+    sl_fail(err, SL_ERR_ARG, "renderer: light-buffer resolution %d is out of range (1..8192)",
+            scene->light_resolution);
+    return NULL;
+  }
+  sl_renderer *r = calloc(1, sizeof *r);
+  if (!r) {
+    sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
+    return NULL;
+  }
+  r->scene = *scene;
+  memcpy(r->scene.sun_direction, sun, sizeof sun);
+  if (r->scene.slices == 0) r->scene.slices = 256;
+  r->shape = *scene->volume;
+  memset(r->shape.eta, 0, sizeof r->shape.eta);
+  r->beta = malloc(sl_volume_count(scene->volume) * sizeof(float));
+  if (!r->beta) {
+    sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grid");
+    free(r);
+    return NULL;
+  }
+  if (sl_total_extinction(scene->volume, r->beta, err)) {
+    sl_renderer_destroy(r);
+    return NULL;
+  }
+  for (size_t i = 0, n = sl_volume_count(scene->volume); i < n && !r->any_extinction; ++i)
+    r->any_extinction = r->beta[i] > 0.0f;
+  sl_grid_view_init(&r->beta_view, r->beta, &r->shape);
+  sl_volume_bounds(&r->shape, r->lo, r->hi);
+  return r;
+}
+
+void sl_renderer_destroy(sl_renderer *r)
+{
+  if (!r) return;
+  free(r->beta);
+  free(r);
+}
+
+/* Parametric interval [t0, t1] where the ray o + t d lies in the box; returns 0 when it misses. */
+static int ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
+                   double *t1)
+{
+  double a = -INFINITY, b = INFINITY;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return 0;
+      continue;
+    }
+    double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
+    if (ta > tb) {
+      const double s = ta;
+      ta = tb;
+      tb = s;
+    }
+    if (ta > a) a = ta;
+    if (tb < b) b = tb;
+  }
+  *t0 = a;
+  *t1 = b;
+  return b > a;
+}
+
+/* Distance from a point inside the box back toward the sun to the box's boundary. */
+static double distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])
+{
+  double best = INFINITY;
+  for (int i = 0; i < 3; ++i) {
+    if (dir[i] > 0.0) {
+      const double t = (hi[i] - x[i]) / dir[i];
+      if (t < best) best = t;
+    } else if (dir[i] < 0.0) {
+      const double t = (lo[i] - x[i]) / dir[i];
+      if (t < best) best = t;
+    }
+  }
+  return best > 0.0 ? best : 0.0;
+}
+
+/* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1]. */
+static int clip_segment(double c, double half, double t0, double t1, double *mid, double *len)
+{
+  const double a = c - half > t0 ? c - half : t0;
+  const double b = c + half < t1 ? c + half : t1;
+  if (!(b > a)) return 0;
+  *mid = 0.5 * (a + b);
+  *len = b - a;
+  return 1;
+}
+
+typedef struct light_buffer {
+  int w, h;
+  double a[3], b[3];   /* texel axes, unit, perpendicular to the propagation direction */
+  double amin, bmin, texel;
+  float *transparency; /* from the top of the volume to the current slice */
+  float *u_in, *u_out; /* each texel ray's interval in the box */
+  double *h_origin;    /* h . (texel ray origin) */
+  int *k_lo, *k_hi;    /* slices a texel ray crosses */
+} light_buffer;
+
+static double light_lookup(const light_buffer *L, const double x[3])
+{
+  double fa = (dot3(L->a, x) - L->amin) / L->texel - 0.5;
+  double fb = (dot3(L->b, x) - L->bmin) / L->texel - 0.5;
+  fa = fa < 0.0 ? 0.0 : fa > L->w - 1 ? L->w - 1 : fa;
+  fb = fb < 0.0 ? 0.0 : fb > L->h - 1 ? L->h - 1 : fb;
+  int i = (int)fa, j = (int)fb;
+  if (i > L->w - 2) i = L->w > 1 ? L->w - 2 : 0;
+  if (j > L->h - 2) j = L->h > 1 ? L->h - 2 : 0;
+  const double u = L->w > 1 ? fa - i : 0.0, v = L->h > 1 ? fb - j : 0.0;
+  const int di = L->w > 1 ? 1 : 0;
+  const size_t dj = L->h > 1 ? (size_t)L->w : 0;
+  const float *t = L->transparency + (size_t)j * L->w + i;
+  const double r0 = t[0] + u * (t[di] - t[0]);
+  const double r1 = t[dj] + u * (t[dj + di] - t[dj]);
+  return r0 + v * (r1 - r0);
+}
+
+int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats, sl_error *err)
+{
+  if (!cam || cam->width != img->width || cam->height != img->height)
+    return sl_fail(err, SL_ERR_ARG, "render: the image is not the camera's size");
+  if (!(cam->fov_deg > 0.0 && cam->fov_deg < 170.0))
+    return sl_fail(err, SL_ERR_ARG, "render: field of view %g degrees is out of range (0, 170)", cam->fov_deg);
+  double fwd[3] = {cam->target[0] - cam->position[0], cam->target[1] - cam->position[1],
+                   cam->target[2] - cam->position[2]};
+  if (normalize3(fwd)) return sl_fail(err, SL_ERR_ARG, "render: camera position and target coincide");
+  double right[3], up[3];
+  cross3(fwd, cam->up, right);
+  if (normalize3(right)) return sl_fail(err, SL_ERR_ARG, "render: camera up vector is parallel to the view");
+  cross3(right, fwd, up);
+
+  const sl_scene *sc = &r->scene;
+  const double *sun = sc->sun_direction;
+  const double prop[3] = {-sun[0], -sun[1], -sun[2]};
+  sl_slicing slicing;
+  sl_choose_slicing(fwd, sun, &slicing);
+  const double *h = slicing.half_vector;
+  const int back_to_front = slicing.back_to_front;
+
+  /* Slices span the box along h. */
+  double smin = INFINITY, smax = -INFINITY;
+  for (int c = 0; c < 8; ++c) {
+    const double corner[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1], c & 4 ? r->hi[2] : r->lo[2]};
+    const double s = dot3(h, corner);
+    if (s < smin) smin = s;
+    if (s > smax) smax = s;
+  }
+  const int nslices = sc->slices;
+  const double ds = (smax - smin) / nslices;
+  const double hp = dot3(h, prop); /* > 0 by construction */
+
+  /* Light buffer: an orthographic grid perpendicular to the sunlight covering the box. */
+  light_buffer L = {0};
+  {
+    const double helper[3] = {fabs(prop[2]) < 0.9 ? 0.0 : 1.0, 0.0, fabs(prop[2]) < 0.9 ? 1.0 : 0.0};
+    cross3(prop, helper, L.a);
+    normalize3(L.a);
+    cross3(prop, L.a, L.b);
+    double amax = -INFINITY, bmax = -INFINITY;
+    L.amin = L.bmin = INFINITY;
+    for (int c = 0; c < 8; ++c) {
+      const double corner[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1],
+                                c & 4 ? r->hi[2] : r->lo[2]};
+      const double a = dot3(L.a, corner), b = dot3(L.b, corner);
+      if (a < L.amin) L.amin = a;
+      if (a > amax) amax = a;
+      if (b < L.bmin) L.bmin = b;
+      if (b > bmax) bmax = b;
+    }
+    const double extent = fmax(amax - L.amin, bmax - L.bmin);
+    int res = sc->light_resolution;
+    if (res == 0) {
+      /* Resolve the finest grid spacing, within 64..1024 texels. */
+      const double finest = fmin(r->shape.spacing[0], fmin(r->shape.spacing[1], r->shape.spacing[2]));
+      res = (int)ceil(extent / finest);
+      res = res < 64 ? 64 : res > 1024 ? 1024 : res;
+    }
+    L.texel = extent / res;
+    L.w = (int)ceil((amax - L.amin) / L.texel - 1e-9);
+    L.h = (int)ceil((bmax - L.bmin) / L.texel - 1e-9);
+    if (L.w < 1) L.w = 1;
+    if (L.h < 1) L.h = 1;
+  }
+  const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
+  L.transparency = malloc(nl * sizeof(float));
+  L.u_in = malloc(nl * sizeof(float));
+  L.u_out = malloc(nl * sizeof(float));
+  L.h_origin = malloc(nl * sizeof(double));
+  L.k_lo = malloc(nl * sizeof(int));
+  L.k_hi = malloc(nl * sizeof(int));
+  /* Eye state: premultiplied radiance, transparency, depth numerator, per-pixel ray data. */
+  float *acc = calloc(np * (SL_CHANNELS + 2), sizeof(float));
+  double *ray = malloc(np * 6 * sizeof(double)); /* direction xyz, t_in, t_out, h.d */
+  int *pk = malloc(np * 2 * sizeof(int));
+  if (!L.transparency || !L.u_in || !L.u_out || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk) {
+    free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+    free(acc), free(ray), free(pk);
+    return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
+  }
+  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
+  const double aspect = (double)img->width / img->height;
+  const double *o = cam->position;
+  const double h_o = dot3(h, o);
+  const double phase = 1.0 / (4.0 * M_PI); /* constant phase function of the low-albedo model */
+  long eye_samples = 0, light_samples = 0;
+  double light_seconds = 0.0, eye_seconds = 0.0;
+
+#pragma omp parallel reduction(+ : eye_samples, light_samples)
+  {
+#pragma omp for schedule(static)
+    for (size_t t = 0; t < nl; ++t) {
+      const int i = (int)(t % L.w), j = (int)(t / L.w);
+      const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+      const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
+      double u0, u1;
+      L.transparency[t] = 1.0f;
+      L.h_origin[t] = dot3(h, origin);
+      L.k_lo[t] = 1, L.k_hi[t] = 0;
+      if (ray_box(r->lo, r->hi, origin, prop, &u0, &u1)) {
+        L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
+        const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
+        L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
+        L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
+      }
+    }
+#pragma omp for schedule(static)
+    for (size_t q = 0; q < np; ++q) {
+      const int px = (int)(q % img->width), py = (int)(q / img->width);
+      const double sx = (2.0 * (px + 0.5) / img->width - 1.0) * tan_half * aspect;
+      const double sy = (1.0 - 2.0 * (py + 0.5) / img->height) * tan_half;
+      double d[3] = {fwd[0] + sx * right[0] + sy * up[0], fwd[1] + sx * right[1] + sy * up[1],
+                     fwd[2] + sx * right[2] + sy * up[2]};
+      normalize3(d);
+      float *a = acc + q * (SL_CHANNELS + 2);
+      a[SL_CHANNELS] = 1.0f; /* transparency toward the eye */
+      double *rq = ray + q * 6;
+      rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
+      rq[5] = dot3(h, d);
+      pk[2 * q] = 1, pk[2 * q + 1] = 0;
+      double t0, t1;
+      /* A ray almost parallel to the slices crosses none of them within the box. */
+      if (fabs(rq[5]) < 1e-9 || !ray_box(r->lo, r->hi, o, d, &t0, &t1) || t1 <= 0.0) continue;
+      if (t0 < 0.0) t0 = 0.0;
+      rq[3] = t0, rq[4] = t1;
+      const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
+      pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;
+      pk[2 * q + 1] = (int)floor((fmax(s0, s1) - smin) / ds) + 1;
+    }
+
+    for (int k = 0; k < nslices && r->any_extinction; ++k) {
+      const double sk = smin + (k + 0.5) * ds;
+      double t_start = 0.0;
+#pragma omp master
+      t_start = omp_get_wtime();
+      /* Eye pass: gather single scattering from this slice. */
+#pragma omp for schedule(dynamic, 256)
+      for (size_t q = 0; q < np; ++q) {
+        if (k < pk[2 * q] || k > pk[2 * q + 1]) continue;
+        const double *rq = ray + q * 6;
+        const double hd = rq[5];
+        double mid, len;
+        if (!clip_segment((sk - h_o) / hd, 0.5 * ds / fabs(hd), rq[3], rq[4], &mid, &len)) continue;
+        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
+        const double beta = sl_grid_sample(&r->beta_view, x);
+        eye_samples++;
+        if (!(beta > 0.0)) continue;
+        /* Light reaching the sample: the buffer holds transparency up to this slab; the rest of the
+         * way is through this sample's own extinction (midpoint rule). */
+        const double s_x = dot3(h, x);
+        double to_slab = (s_x - (sk - 0.5 * ds)) / hp;
+        const double to_box = distance_to_box_toward(r->lo, r->hi, x, sun);
+        if (to_slab > to_box) to_slab = to_box;
+        if (to_slab < 0.0) to_slab = 0.0;
+        const double light = light_lookup(&L, x) * exp(-beta * to_slab);
+        const double opacity = -expm1(-beta * len);
+        const double depth = mid * dot3(rq, fwd);
+        float *a = acc + q * (SL_CHANNELS + 2);
+        if (!back_to_front) {
+          const double w = a[SL_CHANNELS] * opacity;
+          for (int c = 0; c < SL_CHANNELS; ++c)
+            a[c] += (float)(w * sc->albedo * phase * sc->sun_irradiance[c] * light);
+          a[SL_CHANNELS + 1] += (float)(w * depth);
+        } else {
+          for (int c = 0; c < SL_CHANNELS; ++c)
+            a[c] = (float)(a[c] * (1.0 - opacity) + opacity * sc->albedo * phase * sc->sun_irradiance[c] * light);
+          a[SL_CHANNELS + 1] = (float)(a[SL_CHANNELS + 1] * (1.0 - opacity) + opacity * depth);
+        }
+        a[SL_CHANNELS] *= (float)exp(-beta * len);
+      }
+#pragma omp master
+      {
+        const double t_mid = omp_get_wtime();
+        eye_seconds += t_mid - t_start;
+        t_start = t_mid;
+      }
+      /* Light pass: attenuate the sunlight through this slice. */
+#pragma omp for schedule(dynamic, 256)
+      for (size_t t = 0; t < nl; ++t) {
+        if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
+        double mid, len;
+        if (!clip_segment((sk - L.h_origin[t]) / hp, 0.5 * ds / hp, L.u_in[t], L.u_out[t], &mid, &len)) continue;
+        const int i = (int)(t % L.w), j = (int)(t / L.w);
+        const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+        const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
+                             ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
+        const double beta = sl_grid_sample(&r->beta_view, x);
+        light_samples++;
+        if (beta > 0.0) L.transparency[t] *= (float)exp(-beta * len);
+      }
+#pragma omp master
+      light_seconds += omp_get_wtime() - t_start;
+    }
+
+    /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. */
+#pragma omp for schedule(static)
+    for (size_t q = 0; q < np; ++q) {
+      const float *a = acc + q * (SL_CHANNELS + 2);
+      const float transparency = a[SL_CHANNELS];
+      for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = a[c];
+      img->rgba[4 * q + 3] = 1.0f - transparency;
+      const double coverage = 1.0 - transparency;
+      img->depth[q] = coverage > 1e-4 ? (float)(a[SL_CHANNELS + 1] / coverage) : INFINITY;
+    }
+  }
+  if (stats) {
+    stats->light_seconds = light_seconds;
+    stats->eye_seconds = eye_seconds;
+    stats->slices = nslices;
+    stats->light_width = L.w;
+    stats->light_height = L.h;
+    stats->eye_samples = eye_samples;
+    stats->light_samples = light_samples;
+  }
+  free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+  free(acc), free(ray), free(pk);
+  return SL_OK;
+}
+
+int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image *img, sl_error *err)
+{
+  if (!cam || cam->width != img->width || cam->height != img->height)
+    return sl_fail(err, SL_ERR_ARG, "background: the image is not the camera's size");
+  const size_t n = (size_t)img->width * img->height;
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)r->scene.sky_radiance[c];
+    img->rgba[4 * i + 3] = 1.0f;
+    img->depth[i] = INFINITY;
+  }
+  return SL_OK;
+}

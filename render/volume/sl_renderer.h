@@ -1,0 +1,78 @@
+/* The CPU volume renderer: half-angle slicing (Kniss et al. 2002) with a light buffer and an
+ * eye buffer, compositing order chosen by the eye-sun angle (Riley et al. 2004, sec. 5).
+ * Plan once, render many: sl_renderer_create(scene) prepares everything that does not depend
+ * on the camera; sl_renderer_render(r, camera, image) draws one frame. */
+#ifndef SL_RENDERER_H
+#define SL_RENDERER_H
+
+#include "sl_image.h"
+#include "sl_status.h"
+#include "sl_volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SL_CHANNELS 3 /* red 650 nm, green 515 nm, blue 440 nm (Riley et al. 2004, Table 2) */
+
+typedef enum sl_lighting {
+  /* Single scattering with shadowing and a constant (isotropic) phase function: the comparison
+   * model of Riley et al. 2004, Figure 13. */
+  SL_LIGHTING_LOW_ALBEDO = 0
+} sl_lighting;
+
+typedef struct sl_scene {
+  const sl_volume *volume;          /* not owned; must outlive the renderer */
+  double sun_direction[3];          /* unit vector toward the sun, world ENU */
+  double sun_irradiance[SL_CHANNELS]; /* collimated irradiance reaching the volume */
+  double sky_radiance[SL_CHANNELS]; /* constant background sky (replaced by render/sky later) */
+  double albedo;                    /* single-scattering albedo of every hydrometeor (paper: 1) */
+  int slices;                       /* slicing planes across the volume; 0 picks 256 */
+  int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
+  sl_lighting lighting;
+} sl_scene;
+
+typedef struct sl_camera {
+  double position[3], target[3], up[3]; /* world ENU metres; up need not be orthogonal */
+  double fov_deg;                       /* vertical field of view, (0, 170) */
+  int width, height;
+} sl_camera;
+
+/* Which way the slices go for a camera: exposed for tests and reports. */
+typedef struct sl_slicing {
+  double half_vector[3];   /* slicing-plane normal, unit; slices are visited along +half_vector */
+  int back_to_front;       /* 1 when the view vector was flipped: the eye composites back to front */
+  double eye_sun_angle_deg;/* angle between the view direction and the direction to the sun */
+} sl_slicing;
+
+typedef struct sl_render_stats {
+  double light_seconds, eye_seconds; /* summed over the frame's slices */
+  int slices, light_width, light_height;
+  long eye_samples, light_samples;   /* samples that touched the volume's box */
+} sl_render_stats;
+
+typedef struct sl_renderer sl_renderer;
+
+sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err);
+void sl_renderer_destroy(sl_renderer *r);
+/* img must be allocated at camera->width x camera->height. */
+int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, sl_render_stats *stats,
+                       sl_error *err);
+
+/* The background behind and around the volume for this camera (the scene's constant sky),
+ * opaque, depth +inf. */
+int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_image *img, sl_error *err);
+
+/* Kniss et al.'s half-angle choice: h = normalize(v + p) when the view vector v and the light's
+ * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye
+ * compositing back to front. Never degenerate: |±v + p| >= sqrt(2). */
+void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out);
+
+/* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample,
+ * Riley et al. 2004, eqs. 2-3: beta_ex = sum_i eta_i sigma_ex,i. */
+int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
