@@ -37,8 +37,12 @@ static size_t coefficient_bytes(double x, double m_re, double m_im, int *terms, 
 {
   *terms = sl_mie_series_terms(x);
   const double mx = hypot(m_re, m_im) * x;
-  /* Wiscombe 1980, eq. 18: start the downward recurrence above both N_stop and |m x|. */
-  *n_start = (int)fmax((double)*terms, mx) + 16;
+  /* Start the downward recurrence well above both N_stop and |m x|. B&H's BHMIE starts at
+   * max(N_stop, |mx|) + 15, which is too close for weakly absorbing large spheres: for
+   * m = 1.33 + 1e-5 i, x = 1e4 it gives Qsca 0.3% low against Wiscombe's test case 11, because
+   * the start error only decays where n > |mx|. 1.1 |mx| + 50 reproduces the case to 1e-7 and
+   * agrees with a start at 2 |mx| + 200 to the last digit. */
+  *n_start = (int)(fmax((double)*terms, 1.1 * mx) + 50.0);
   return sizeof(double complex) * (size_t)(2 * (*terms + 2) + *n_start + 1);
 }
 
