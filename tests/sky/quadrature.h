@@ -11,7 +11,7 @@ typedef struct ref_sky {
 } ref_sky;
 
 /* Riley eq. 11 as printed (with expm1 so the reference itself stays accurate), eye to distance t. */
-static double ref_transparency(const ref_sky *s, double t)
+static inline double ref_transparency(const ref_sky *s, double t)
 {
   double beta_eye = s->beta_sl * exp(-s->gamma * s->z_eye);
   double depth = s->mu == 0.0 ? beta_eye * t : beta_eye * -expm1(-s->gamma * s->mu * t) / (s->gamma * s->mu);
@@ -19,7 +19,7 @@ static double ref_transparency(const ref_sky *s, double t)
 }
 
 /* Integrand of eq. 8: T(eye, s') beta(s') P L(s'), with eq. 10 and eq. 12 (air mass m = 1/l_y). */
-static double ref_integrand(const ref_sky *s, double t)
+static inline double ref_integrand(const ref_sky *s, double t)
 {
   double z = s->z_eye + s->mu * t;
   double beta = s->beta_sl * exp(-s->gamma * z);
@@ -40,7 +40,7 @@ static const double kWg[4] = {0.129484966168869693270611432679082, 0.27970539148
 
 typedef double (*ref_fn)(const void *ctx, double t);
 
-static double ref_gk15(ref_fn f, const void *ctx, double a, double b, double *err)
+static inline double ref_gk15(ref_fn f, const void *ctx, double a, double b, double *err)
 {
   double h = 0.5 * (b - a), c = 0.5 * (a + b);
   double fc = f(ctx, c), k = fc * kWk[7], g = fc * kWg[3];
@@ -53,7 +53,7 @@ static double ref_gk15(ref_fn f, const void *ctx, double a, double b, double *er
   return k * h;
 }
 
-static double ref_adaptive(ref_fn f, const void *ctx, double a, double b, double tol, int depth)
+static inline double ref_adaptive(ref_fn f, const void *ctx, double a, double b, double tol, int depth)
 {
   double err, v = ref_gk15(f, ctx, a, b, &err);
   if (err <= tol || depth > 50) return v;
@@ -63,7 +63,7 @@ static double ref_adaptive(ref_fn f, const void *ctx, double a, double b, double
 
 /* Integral of f over [0, end] (end may be infinite): decades as breakpoints, a coarse pass for
  * the scale, then adaptive Gauss-Kronrod to rel_tol of the total. */
-static double ref_integrate(ref_fn f, const void *ctx, double end, double rel_tol)
+static inline double ref_integrate(ref_fn f, const void *ctx, double end, double rel_tol)
 {
   double cuts[40];
   int n = 0;
@@ -78,11 +78,11 @@ static double ref_integrate(ref_fn f, const void *ctx, double end, double rel_to
   return total;
 }
 
-static double ref_sky_fn(const void *ctx, double t) { return ref_integrand((const ref_sky *)ctx, t); }
+static inline double ref_sky_fn(const void *ctx, double t) { return ref_integrand((const ref_sky *)ctx, t); }
 
 /* The end of the integral: K itself, the ground for downward rays, and for an infinite upward ray
  * the height where the air (and everything it could add) has fallen by exp(-80). */
-static double ref_sky_end(const ref_sky *s, double K)
+static inline double ref_sky_end(const ref_sky *s, double K)
 {
   if (s->mu < 0.0) {
     double ground = s->z_eye > 0.0 ? s->z_eye / -s->mu : 0.0;
@@ -97,7 +97,7 @@ static double ref_sky_end(const ref_sky *s, double K)
   return K;
 }
 
-static double ref_sky_radiance(const ref_sky *s, double K, double rel_tol)
+static inline double ref_sky_radiance(const ref_sky *s, double K, double rel_tol)
 {
   double end = ref_sky_end(s, K);
   if (!(end > 0.0)) return 0.0;
