@@ -90,12 +90,13 @@ static hydrometeors cumulonimbus(uint64_t seed, double x, double y, double z, do
 {
   hydrometeors h = {0};
   const double km = 1.0 / 1000.0;
-  const double n = sl_fractal_noise(seed, x * km / 1.5 + 0.3 * t, y * km / 1.5, z * km / 1.5, 4);
+  /* Two octaves from 2.5 km: the finest detail stays above the grid's Nyquist length at 500 m. */
+  const double n = sl_fractal_noise(seed, x * km / 2.5 + 0.3 * t, y * km / 2.5, z * km / 2.5, 2);
   /* Tower: cloud base 1.5 km, widening slightly with height, lumpy edge from the noise. */
   const double base = 1500.0, tower_top = 11500.0;
   const double radius = 3200.0 + 0.12 * (z - base) + 1800.0 * (n - 0.5);
   const double r = hypot(x + 500.0, y);
-  const double tower = smoothstep(radius, radius * 0.7, r) * smoothstep(base, base + 400.0, z) *
+  const double tower = smoothstep(radius, radius * 0.55, r) * smoothstep(base, base + 400.0, z) *
                        smoothstep(tower_top, tower_top - 1500.0, z);
   const double fl = liquid_fraction(temperature);
   h.cloud = 2.2e-3 * tower * fl * (0.6 + 0.8 * n);

@@ -1,3 +1,4 @@
+#include <math.h>
 #include <stdlib.h>
 
 #include "sl_image.h"
@@ -35,4 +36,59 @@ void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *
     out->rgba[4 * i + 3] = layer->rgba[4 * i + 3];
     out->depth[i] = layer->depth[i];
   }
+}
+
+int sl_image_compare(const sl_image *a, const sl_image *b, sl_image_metrics *m, sl_error *err)
+{
+  *m = (sl_image_metrics){0};
+  if (a->width != b->width || a->height != b->height)
+    return sl_fail(err, SL_ERR_ARG, "images differ in size: %dx%d and %dx%d", a->width, a->height, b->width,
+                   b->height);
+  const size_t n = (size_t)a->width * a->height;
+  double se = 0.0, ref = 0.0, peak = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    int bad = 0;
+    for (int c = 0; c < 3; ++c) bad |= !isfinite(a->rgba[4 * i + c]) || !isfinite(b->rgba[4 * i + c]);
+    if (bad) {
+      m->nonfinite++;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double d = (double)a->rgba[4 * i + c] - b->rgba[4 * i + c];
+      se += d * d;
+      ref += (double)b->rgba[4 * i + c] * b->rgba[4 * i + c];
+      if (fabs(d) > m->max_abs_diff) m->max_abs_diff = fabs(d);
+      if (b->rgba[4 * i + c] > peak) peak = b->rgba[4 * i + c];
+    }
+  }
+  m->relative_rmse = ref > 0.0 ? sqrt(se / ref) : (se > 0.0 ? INFINITY : 0.0);
+  const double mse = se / (3.0 * (double)n);
+  m->psnr_db = mse > 0.0 ? 10.0 * log10(peak * peak / mse) : INFINITY;
+  return SL_OK;
+}
+
+int sl_image_diff_rgb8(const sl_image *a, const sl_image *b, double scale, unsigned char *rgb)
+{
+  const size_t n = (size_t)a->width * a->height;
+  if (!(scale > 0.0)) {
+    scale = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      double d = 0.0;
+      for (int c = 0; c < 3; ++c) d += fabs((double)a->rgba[4 * i + c] - b->rgba[4 * i + c]) / 3.0;
+      if (isfinite(d) && d > scale) scale = d;
+    }
+    if (!(scale > 0.0)) scale = 1.0;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    double d = 0.0;
+    for (int c = 0; c < 3; ++c) d += fabs((double)a->rgba[4 * i + c] - b->rgba[4 * i + c]) / 3.0;
+    double x = isfinite(d) ? d / scale : 1.0;
+    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    /* Three ramps: red rises first, then green, then blue. */
+    const double r = fmin(1.0, 3.0 * x), g = fmin(1.0, fmax(0.0, 3.0 * x - 1.0)), bl = fmax(0.0, 3.0 * x - 2.0);
+    rgb[3 * i + 0] = (unsigned char)lrint(255.0 * r);
+    rgb[3 * i + 1] = (unsigned char)lrint(255.0 * g);
+    rgb[3 * i + 2] = (unsigned char)lrint(255.0 * bl);
+  }
+  return SL_OK;
 }

@@ -21,6 +21,19 @@ void sl_image_free(sl_image *img);
  * the layer's coverage and its depth the layer's depth. out may alias layer. */
 void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *out);
 
+typedef struct sl_image_metrics {
+  double relative_rmse;  /* sqrt(sum (a-b)^2 / sum b^2) over R, G, B */
+  double max_abs_diff;   /* largest |a-b| over R, G, B */
+  double psnr_db;        /* 10 log10(peak^2 / MSE), peak = the reference's largest RGB value */
+  long nonfinite;        /* pixels where either image is NaN or Inf */
+} sl_image_metrics;
+
+/* Compares image a with reference b on linear HDR RGB. Sizes must match. */
+int sl_image_compare(const sl_image *a, const sl_image *b, sl_image_metrics *m, sl_error *err);
+/* False-colour map of |a-b| (RGB mean), 8-bit RGB rows top first, black -> red -> yellow -> white
+ * with white at `scale` (<= 0 picks the largest difference). */
+int sl_image_diff_rgb8(const sl_image *a, const sl_image *b, double scale, unsigned char *rgb_out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -170,6 +170,17 @@ static int clip_segment(double c, double half, double t0, double t1, double *mid
   return 1;
 }
 
+/* Single scattering gathered over one eye segment of length len with constant extinction beta,
+ * per unit of the light arriving at its near end, when the light's own path grows by `rate`-1
+ * metres per metre along the segment: beta * integral_0^len exp(-beta rate u) du. rate = 1 is
+ * a light path that does not change; rate may be <= 0 when the segment runs toward the sun. */
+static double scatter_over_segment(double beta, double len, double rate)
+{
+  const double x = beta * rate * len;
+  if (fabs(x) < 1e-8) return beta * len * (1.0 - 0.5 * x);
+  return beta * len * (-expm1(-x) / x);
+}
+
 typedef struct light_buffer {
   int w, h;
   double a[3], b[3];   /* texel axes, unit, perpendicular to the propagation direction */
@@ -347,25 +358,28 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double beta = sl_grid_sample(&r->beta_view, x);
         eye_samples++;
         if (!(beta > 0.0)) continue;
-        /* Light reaching the sample: the buffer holds transparency up to this slab; the rest of the
-         * way is through this sample's own extinction (midpoint rule). */
-        const double s_x = dot3(h, x);
-        double to_slab = (s_x - (sk - 0.5 * ds)) / hp;
-        const double to_box = distance_to_box_toward(r->lo, r->hi, x, sun);
+        /* The light buffer holds the sunlight's transparency up to this slab's first plane. Along
+         * the eye segment (constant beta) the remaining path to that plane changes linearly,
+         * at hd/hp per metre, so the gather has a closed form (see scatter_over_segment). */
+        const double t_near = mid - 0.5 * len;
+        const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
+        double to_slab = (dot3(h, x_near) - (sk - 0.5 * ds)) / hp;
+        const double to_box = distance_to_box_toward(r->lo, r->hi, x_near, sun);
         if (to_slab > to_box) to_slab = to_box;
         if (to_slab < 0.0) to_slab = 0.0;
-        const double light = light_lookup(&L, x) * exp(-beta * to_slab);
+        const double light_near = light_lookup(&L, x_near) * exp(-beta * to_slab);
+        const double gathered = light_near * scatter_over_segment(beta, len, 1.0 + hd / hp);
         const double opacity = -expm1(-beta * len);
         const double depth = mid * dot3(rq, fwd);
         float *a = acc + q * (SL_CHANNELS + 2);
+        const double source = sc->albedo * phase * gathered;
         if (!back_to_front) {
-          const double w = a[SL_CHANNELS] * opacity;
-          for (int c = 0; c < SL_CHANNELS; ++c)
-            a[c] += (float)(w * sc->albedo * phase * sc->sun_irradiance[c] * light);
-          a[SL_CHANNELS + 1] += (float)(w * depth);
+          const double w = a[SL_CHANNELS];
+          for (int c = 0; c < SL_CHANNELS; ++c) a[c] += (float)(w * source * sc->sun_irradiance[c]);
+          a[SL_CHANNELS + 1] += (float)(w * opacity * depth);
         } else {
           for (int c = 0; c < SL_CHANNELS; ++c)
-            a[c] = (float)(a[c] * (1.0 - opacity) + opacity * sc->albedo * phase * sc->sun_irradiance[c] * light);
+            a[c] = (float)(a[c] * (1.0 - opacity) + source * sc->sun_irradiance[c]);
           a[SL_CHANNELS + 1] = (float)(a[SL_CHANNELS + 1] * (1.0 - opacity) + opacity * depth);
         }
         a[SL_CHANNELS] *= (float)exp(-beta * len);
@@ -391,7 +405,10 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         if (beta > 0.0) L.transparency[t] *= (float)exp(-beta * len);
       }
 #pragma omp master
-      light_seconds += omp_get_wtime() - t_start;
+      {
+        light_seconds += omp_get_wtime() - t_start;
+        if (sc->progress) sc->progress(sc->progress_user, (k + 1.0) / nslices);
+      }
     }
 
     /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. */
@@ -430,4 +447,60 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
     img->depth[i] = INFINITY;
   }
   return SL_OK;
+}
+
+void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3])
+{
+  const sl_volume *v = &r->shape;
+  int mn[3] = {v->nx, v->ny, v->nz}, mx[3] = {-1, -1, -1};
+  for (int k = 0; k < v->nz; ++k)
+    for (int j = 0; j < v->ny; ++j)
+      for (int i = 0; i < v->nx; ++i) {
+        if (!(r->beta[sl_volume_index(v, i, j, k)] > 0.0f)) continue;
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          if (idx[a] < mn[a]) mn[a] = idx[a];
+          if (idx[a] > mx[a]) mx[a] = idx[a];
+        }
+      }
+  if (mx[0] < 0) {
+    memcpy(lo, r->lo, sizeof r->lo);
+    memcpy(hi, r->hi, sizeof r->hi);
+    return;
+  }
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = fmax(r->lo[a], v->origin[a] + (mn[a] - 1) * v->spacing[a]);
+    hi[a] = fmin(r->hi[a], v->origin[a] + (mx[a] + 1) * v->spacing[a]);
+  }
+}
+
+void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3])
+{
+  const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
+  out[0] = sin(az) * cos(el);
+  out[1] = cos(az) * cos(el);
+  out[2] = sin(el);
+}
+
+void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
+                     double fov_deg, int width, int height, sl_camera *cam)
+{
+  double dir[3];
+  sl_sun_vector(azimuth_deg, elevation_deg, dir);
+  double radius = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    cam->target[a] = 0.5 * (lo[a] + hi[a]);
+    radius += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  }
+  radius = sqrt(radius);
+  const double aspect = (double)width / height;
+  double half = 0.5 * fov_deg * M_PI / 180.0;
+  if (aspect < 1.0) half = atan(tan(half) * aspect);
+  const double distance = 1.05 * radius / sin(half);
+  for (int a = 0; a < 3; ++a) cam->position[a] = cam->target[a] + distance * dir[a];
+  cam->up[0] = 0.0, cam->up[1] = 0.0, cam->up[2] = 1.0;
+  if (fabs(dir[2]) > 0.999) cam->up[1] = 1.0, cam->up[2] = 0.0;
+  cam->fov_deg = fov_deg;
+  cam->width = width;
+  cam->height = height;
 }

@@ -30,6 +30,9 @@ typedef struct sl_scene {
   int slices;                       /* slicing planes across the volume; 0 picks 256 */
   int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
   sl_lighting lighting;
+  /* Called from one thread after each slice with the fraction done; may be NULL. */
+  void (*progress)(void *user, double fraction);
+  void *progress_user;
 } sl_scene;
 
 typedef struct sl_camera {
@@ -62,6 +65,16 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, s
 /* The background behind and around the volume for this camera (the scene's constant sky),
  * opaque, depth +inf. */
 int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_image *img, sl_error *err);
+
+/* The box around the samples with non-zero extinction (the whole box when all are empty). */
+void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]);
+/* A camera looking at the box's centre from compass azimuth `azimuth_deg` (clockwise from
+ * north, the direction from the target to the camera) and elevation `elevation_deg`, far
+ * enough that the box's bounding sphere fills the view. */
+void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
+                     double fov_deg, int width, int height, sl_camera *cam);
+/* Unit vector toward a sun at compass azimuth (clockwise from north) and elevation, degrees. */
+void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
 
 /* Kniss et al.'s half-angle choice: h = normalize(v + p) when the view vector v and the light's
  * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye

@@ -1,0 +1,126 @@
+// stormlight info: what a storm file holds, as a meteorologist wants to see it.
+#include <cjson/cJSON.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "cli.h"
+#include "commands.h"
+#include "sl_storm.h"
+
+namespace {
+
+const char *projection_name(int map_proj)
+{
+  switch (map_proj) {
+  case 1: return "Lambert conformal";
+  case 2: return "polar stereographic";
+  case 3: return "Mercator";
+  case 6: return "latitude-longitude (cylindrical equidistant)";
+  default: return "unknown";
+  }
+}
+
+const char *const kVariable[SL_PARTICLE_COUNT] = {"QCLOUD", "QRAIN", "QICE", "QSNOW"};
+
+}  // namespace
+
+int sl_cmd_info(int argc, char **argv)
+{
+  sl::Options o("info", "FILE [--time N] [--json]",
+                "Describes a storm file: grid, extent in metres, hydrometeor fields with min/max/mean,\n"
+                "negative values clamped, times and map projection.");
+  o.option("time", "N", "time index for the field statistics and extent", "0");
+  o.flag("json", "print one JSON object");
+  const int early = sl::parse_or_exit(o, argc, argv);
+  if (early >= 0) return early;
+  if (o.positional().size() != 1) return sl::fail("info", "give exactly one storm FILE", 2);
+  const std::string path = o.positional()[0];
+  long t;
+  if (!o.integer("time", &t, 0, SL_MAX_TIMES - 1)) return sl::fail("info", o.error(), 2);
+  sl_error err{};
+  std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+  if (sl_storm_read_info(path.c_str(), info.get(), &err)) return sl::fail("info", err.message);
+  sl_load_options lo{(int)t, 0.0};
+  sl_storm_frame frame;
+  if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail("info", err.message);
+  const sl_volume &v = frame.volume;
+  const double extent[3] = {v.nx * v.spacing[0], v.ny * v.spacing[1], frame.model_top - frame.terrain_min};
+
+  if (o.has("json")) {
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "file", path.c_str());
+    cJSON *grid = cJSON_AddObjectToObject(root, "grid");
+    cJSON_AddNumberToObject(grid, "west_east", info->nx);
+    cJSON_AddNumberToObject(grid, "south_north", info->ny);
+    cJSON_AddNumberToObject(grid, "bottom_top", info->nz);
+    cJSON_AddNumberToObject(grid, "dx_m", info->dx);
+    cJSON_AddNumberToObject(grid, "dy_m", info->dy);
+    cJSON *uni = cJSON_AddObjectToObject(root, "uniform_grid");
+    cJSON_AddNumberToObject(uni, "nx", v.nx);
+    cJSON_AddNumberToObject(uni, "ny", v.ny);
+    cJSON_AddNumberToObject(uni, "nz", v.nz);
+    cJSON_AddNumberToObject(uni, "dz_m", v.spacing[2]);
+    cJSON *ext = cJSON_AddObjectToObject(root, "extent_m");
+    cJSON_AddNumberToObject(ext, "east", extent[0]);
+    cJSON_AddNumberToObject(ext, "north", extent[1]);
+    cJSON_AddNumberToObject(ext, "up", extent[2]);
+    cJSON_AddNumberToObject(root, "terrain_min_m", frame.terrain_min);
+    cJSON_AddNumberToObject(root, "terrain_max_m", frame.terrain_max);
+    cJSON_AddNumberToObject(root, "model_top_m", frame.model_top);
+    cJSON_AddNumberToObject(root, "center_lat", frame.center_lat);
+    cJSON_AddNumberToObject(root, "center_lon", frame.center_lon);
+    cJSON *proj = cJSON_AddObjectToObject(root, "projection");
+    cJSON_AddNumberToObject(proj, "map_proj", info->map_proj);
+    cJSON_AddStringToObject(proj, "name", projection_name(info->map_proj));
+    cJSON_AddNumberToObject(proj, "truelat1", info->truelat1);
+    cJSON_AddNumberToObject(proj, "truelat2", info->truelat2);
+    cJSON_AddNumberToObject(proj, "stand_lon", info->stand_lon);
+    cJSON_AddNumberToObject(root, "mp_physics", info->mp_physics);
+    cJSON *times = cJSON_AddArrayToObject(root, "times");
+    for (int i = 0; i < info->ntimes; ++i)
+      cJSON_AddItemToArray(times, info->has_times ? cJSON_CreateString(info->times[i]) : cJSON_CreateNumber(i));
+    cJSON_AddNumberToObject(root, "time_index", (double)t);
+    cJSON *fields = cJSON_AddObjectToObject(root, "fields");
+    for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+      const sl_field_stats &s = frame.stats[p];
+      if (!s.present) continue;
+      cJSON *f = cJSON_AddObjectToObject(fields, kVariable[p]);
+      cJSON_AddNumberToObject(f, "min_kg_per_kg", s.q_min);
+      cJSON_AddNumberToObject(f, "max_kg_per_kg", s.q_max);
+      cJSON_AddNumberToObject(f, "mean_kg_per_kg", s.q_mean);
+      cJSON_AddNumberToObject(f, "negative_clamped", (double)s.negative_count);
+    }
+    char *text = cJSON_PrintUnformatted(root);
+    std::printf("%s\n", text);
+    std::free(text);
+    cJSON_Delete(root);
+  } else {
+    std::printf("file        %s\n", path.c_str());
+    std::printf("grid        %d x %d x %d mass points (west_east x south_north x bottom_top), dx %g m, dy %g m\n",
+                info->nx, info->ny, info->nz, info->dx, info->dy);
+    std::printf("extent      %.1f km east x %.1f km north x %.1f km up (terrain %.0f..%.0f m, top %.0f m)\n",
+                extent[0] / 1e3, extent[1] / 1e3, extent[2] / 1e3, frame.terrain_min, frame.terrain_max,
+                frame.model_top);
+    std::printf("uniform     %d x %d x %d samples, dz %.1f m\n", v.nx, v.ny, v.nz, v.spacing[2]);
+    std::printf("projection  %s (MAP_PROJ %d), truelat %g/%g, stand_lon %g; centre %.4f N %.4f E\n",
+                projection_name(info->map_proj), info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
+                frame.center_lat, frame.center_lon);
+    std::printf("physics     MP_PHYSICS %d%s\n", info->mp_physics,
+                info->mp_physics == 3 ? " (WSM3 simple ice: QCLOUD/QRAIN are ice/snow below 0 C)" : "");
+    std::printf("times       %d:", info->ntimes);
+    for (int i = 0; i < info->ntimes && i < 8; ++i) std::printf(" %s", info->has_times ? info->times[i] : "(index only)");
+    std::printf("%s\n", info->ntimes > 8 ? " ..." : "");
+    std::printf("fields at time %ld (kg/kg):\n", t);
+    for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+      const sl_field_stats &s = frame.stats[p];
+      if (!s.present) continue;
+      std::printf("  %-7s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld\n", kVariable[p], s.q_min,
+                  s.q_max, s.q_mean, s.negative_count);
+    }
+  }
+  sl_storm_frame_free(&frame);
+  return 0;
+}

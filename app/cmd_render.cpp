@@ -1,0 +1,219 @@
+// stormlight render: a storm file to an HDR frame through a VTK render window.
+#include <omp.h>
+#include <vtkCamera.h>
+#include <vtkNew.h>
+#include <vtkRenderStepsPass.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "commands.h"
+#include "composite_pass.h"
+#include "sl_image_io.h"
+#include "sl_renderer.h"
+#include "sl_storm.h"
+#include "sl_tempfile.h"
+
+namespace {
+
+bool ends_with(const std::string &s, const std::string &suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
+
+// Composites through VTK: background, VTK's props, the volume; reads the float frame back.
+bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out)
+{
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(cam.width, cam.height);
+  window->SetMultiSamples(0);
+  vtkNew<vtkRenderer> renderer;
+  window->AddRenderer(renderer);
+  vtkCamera *camera = renderer->GetActiveCamera();
+  camera->SetPosition(cam.position);
+  camera->SetFocalPoint(cam.target);
+  camera->SetViewUp(cam.up);
+  camera->SetViewAngle(cam.fov_deg);
+  double distance = 0.0;
+  for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
+  distance = std::sqrt(distance);
+  camera->SetClippingRange(std::max(1.0, 1e-3 * distance), 1e3 * distance);
+
+  vtkNew<sl::CompositePass> pass;
+  vtkNew<vtkRenderStepsPass> steps;
+  pass->SetDelegatePass(steps);
+  pass->SetLayers(cam.width, cam.height, background.rgba, volume.rgba, volume.depth);
+  renderer->SetPass(pass);
+  window->Render();
+  if (!pass->Succeeded() || pass->Result().size() != (size_t)cam.width * cam.height * 4) return false;
+  const std::vector<float> &px = pass->Result();
+  for (size_t i = 0; i < px.size(); ++i) out->rgba[i] = px[i];
+  for (size_t i = 0; i < (size_t)cam.width * cam.height; ++i) {
+    out->rgba[4 * i + 3] = volume.rgba[4 * i + 3];
+    out->depth[i] = volume.depth[i];
+  }
+  return true;
+}
+
+}  // namespace
+
+int sl_cmd_render(int argc, char **argv)
+{
+  sl::Options o("render", "FILE --out frame.exr[,frame.png] [options]",
+                "Renders one time of a storm file with half-angle slicing (light buffer + eye buffer) and the\n"
+                "low-albedo lighting model (Riley et al. 2004, Fig. 13), composited with VTK's passes in a\n"
+                "float framebuffer. EXR gets linear HDR RGBA (A = the volume's coverage) plus Z; PNG is\n"
+                "tone-mapped sRGB. Without an X display VTK cannot open a window: run under 'xvfb-run -a'.");
+  o.option("out", "FILES", "output image(s), comma-separated: .exr (linear HDR) and/or .png (tone-mapped)");
+  o.option("time", "N", "time index in the file", "0");
+  o.option("width", "PX", "image width", "512");
+  o.option("height", "PX", "image height", "512");
+  o.option("slices", "N", "slicing planes across the volume", "256");
+  o.option("light-resolution", "N", "light-buffer texels along its longer side (0 = automatic)", "0");
+  o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north", "240");
+  o.option("sun-elevation", "DEG", "sun elevation above the horizon", "35");
+  o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
+  o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");
+  o.option("view-azimuth", "DEG", "default camera: compass direction from the cloud to the camera", "200");
+  o.option("view-elevation", "DEG", "default camera: elevation of the camera seen from the cloud", "12");
+  o.option("fov", "DEG", "vertical field of view", "40");
+  o.option("threads", "N", "OpenMP threads (0 = all cores)", "0");
+  o.option("exposure", "E", "PNG tone mapping: 1 - exp(-E L)", "12");
+  o.option("sky", "R,G,B", "constant sky radiance behind the volume", "0.035,0.055,0.10");
+  o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
+  o.flag("float", "write 32-bit float EXR channels instead of half");
+  o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
+  o.flag("quiet", "no progress bar or summary");
+  const int early = sl::parse_or_exit(o, argc, argv);
+  if (early >= 0) return early;
+  const std::string cmd = "render";
+  if (o.positional().size() != 1) return sl::fail(cmd, "give exactly one storm FILE", 2);
+  const std::string path = o.positional()[0];
+  if (!o.has("out")) return sl::fail(cmd, "missing --out FILE.exr or FILE.png", 2);
+
+  std::vector<std::string> outs;
+  {
+    std::stringstream ss(o.str("out"));
+    std::string item;
+    while (std::getline(ss, item, ','))
+      if (!item.empty()) outs.push_back(item);
+  }
+  sl_error err{};
+  for (const std::string &f : outs) {
+    if (!ends_with(f, ".exr") && !ends_with(f, ".png"))
+      return sl::fail(cmd, f + ": output must end in .exr or .png", 2);
+    char tmp[4096];
+    if (sl_temp_name(f.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
+  }
+  long width, height, slices, light_res, threads, time_index;
+  double sun_az, sun_el, fov, exposure, view_az, view_el, dz;
+  std::vector<double> sky;
+  if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
+      !o.integer("slices", &slices, 1, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
+      !o.integer("threads", &threads, 0, 1024) || !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) ||
+      !o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el) || !o.number("fov", &fov) ||
+      !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
+      !o.number("view-elevation", &view_el) || !o.number("dz", &dz) || !o.list("sky", &sky))
+    return sl::fail(cmd, o.error(), 2);
+  if (sky.size() != 3) return sl::fail(cmd, "--sky needs three numbers R,G,B", 2);
+  if (!(fov > 0 && fov < 170)) return sl::fail(cmd, "--fov must be in (0, 170) degrees", 2);
+  if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
+  if (threads > 0) omp_set_num_threads((int)threads);
+  const bool quiet = o.has("quiet");
+
+  double t0 = sl::now_seconds();
+  sl_load_options lo{(int)time_index, dz};
+  sl_storm_frame frame;
+  if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail(cmd, err.message);
+  const double t_load = sl::now_seconds() - t0;
+
+  sl_scene scene{};
+  scene.volume = &frame.volume;
+  sl_sun_vector(sun_az, sun_el, scene.sun_direction);
+  for (int c = 0; c < SL_CHANNELS; ++c) {
+    scene.sun_irradiance[c] = 1.0;
+    scene.sky_radiance[c] = sky[c];
+  }
+  scene.albedo = 1.0;
+  scene.slices = (int)slices;
+  scene.light_resolution = (int)light_res;
+  sl::Progress progress("rendering", !quiet);
+  scene.progress = progress_hook;
+  scene.progress_user = &progress;
+  sl_renderer *r = sl_renderer_create(&scene, &err);
+  if (!r) {
+    sl_storm_frame_free(&frame);
+    return sl::fail(cmd, path + ": " + err.message);
+  }
+  sl_camera cam{};
+  double lo_box[3], hi_box[3];
+  sl_renderer_content_bounds(r, lo_box, hi_box);
+  sl_camera_frame(lo_box, hi_box, view_az, view_el, fov, (int)width, (int)height, &cam);
+  if (o.has("camera-target") && !o.vec3("camera-target", cam.target)) return sl::fail(cmd, o.error(), 2);
+  if (o.has("camera-position") && !o.vec3("camera-position", cam.position)) return sl::fail(cmd, o.error(), 2);
+
+  sl_image volume{}, background{}, frame_img{};
+  int rc = 0;
+  sl_render_stats stats{};
+  double t_render = 0, t_composite = 0, t_write = 0;
+  if (sl_image_alloc(&volume, cam.width, cam.height, &err) || sl_image_alloc(&background, cam.width, cam.height, &err) ||
+      sl_image_alloc(&frame_img, cam.width, cam.height, &err)) {
+    rc = sl::fail(cmd, err.message);
+    goto done;
+  }
+  t0 = sl::now_seconds();
+  if (sl_renderer_render(r, &cam, &volume, &stats, &err) || sl_renderer_background(r, &cam, &background, &err)) {
+    rc = sl::fail(cmd, err.message);
+    goto done;
+  }
+  progress.done();
+  t_render = sl::now_seconds() - t0;
+  t0 = sl::now_seconds();
+  if (o.has("cpu-composite")) {
+    sl_image_over(&volume, &background, &frame_img);
+  } else {
+    if (!std::getenv("DISPLAY")) {
+      rc = sl::fail(cmd, "no X display for the VTK render window: run under 'xvfb-run -a' or pass --cpu-composite");
+      goto done;
+    }
+    if (!composite_with_vtk(cam, background, volume, &frame_img)) {
+      rc = sl::fail(cmd, "the VTK render window could not composite the frame (OpenGL float targets unavailable?)");
+      goto done;
+    }
+  }
+  t_composite = sl::now_seconds() - t0;
+  t0 = sl::now_seconds();
+  for (const std::string &f : outs) {
+    const int w = ends_with(f, ".exr")
+                      ? sl_write_exr(f.c_str(), &frame_img, o.has("float") ? SL_EXR_FLOAT : SL_EXR_HALF, &err)
+                      : sl_write_png(f.c_str(), &frame_img, (float)exposure, &err);
+    if (w) {
+      rc = sl::fail(cmd, err.message);
+      goto done;
+    }
+  }
+  t_write = sl::now_seconds() - t0;
+  if (!quiet)
+    std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "
+                "pass %.3f s, composite %.3f s, write %.3f s\n",
+                path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,
+                stats.light_height, t_load, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
+  (void)t_render;
+done:
+  sl_image_free(&volume);
+  sl_image_free(&background);
+  sl_image_free(&frame_img);
+  sl_renderer_destroy(r);
+  sl_storm_frame_free(&frame);
+  return rc;
+}

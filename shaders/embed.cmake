@@ -1,0 +1,10 @@
+# Turns GLSL files into a C++ header of string constants: cmake -DOUT=... -DINPUTS="a;b" -P embed.cmake
+string(REPLACE "," ";" INPUTS "${INPUTS}")
+set(text "// Generated from shaders/*.glsl by shaders/embed.cmake. Do not edit.\n#pragma once\n")
+foreach(f ${INPUTS})
+  get_filename_component(name ${f} NAME_WE)
+  file(READ ${f} body)
+  string(APPEND text "static const char *const sl_shader_${name} = R\"GLSL(${body})GLSL\";\n")
+endforeach()
+file(WRITE ${OUT}.new "${text}")
+file(COPY_FILE ${OUT}.new ${OUT} ONLY_IF_DIFFERENT)
