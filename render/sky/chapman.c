@@ -53,13 +53,31 @@ static double gauss_kronrod(const chapman_args *p, double lo, double hi, double 
   return kronrod * half;
 }
 
-static double adaptive(const chapman_args *p, double lo, double hi, double tol, int depth)
+/* Global adaptive quadrature with a fixed budget: bisect the interval with the largest error
+ * estimate until the total is below tol, the error is at round-off level, or the budget is spent.
+ * Bounded work for every input, unlike recursion with a halving tolerance. */
+#define CHAPMAN_MAX_PANELS 64
+static double adaptive(const chapman_args *p, double lo, double hi, double tol)
 {
-  double error;
-  double value = gauss_kronrod(p, lo, hi, &error);
-  if (error <= tol || depth >= 40) return value;
-  double mid = 0.5 * (lo + hi);
-  return adaptive(p, lo, mid, 0.5 * tol, depth + 1) + adaptive(p, mid, hi, 0.5 * tol, depth + 1);
+  double a[CHAPMAN_MAX_PANELS], b[CHAPMAN_MAX_PANELS], v[CHAPMAN_MAX_PANELS], e[CHAPMAN_MAX_PANELS];
+  int n = 1;
+  a[0] = lo, b[0] = hi;
+  v[0] = gauss_kronrod(p, lo, hi, &e[0]);
+  for (;;) {
+    double total = 0.0, error = 0.0;
+    int worst = 0;
+    for (int i = 0; i < n; ++i) {
+      total += v[i], error += e[i];
+      if (e[i] > e[worst]) worst = i;
+    }
+    if (error <= tol || error <= 1e-15 * fabs(total) || n + 1 > CHAPMAN_MAX_PANELS) return total;
+    double mid = 0.5 * (a[worst] + b[worst]);
+    a[n] = mid, b[n] = b[worst];
+    v[n] = gauss_kronrod(p, mid, b[worst], &e[n]);
+    b[worst] = mid;
+    v[worst] = gauss_kronrod(p, a[worst], mid, &e[worst]);
+    ++n;
+  }
 }
 
 double sl_chapman(double x, double cos_zenith)
@@ -74,9 +92,9 @@ double sl_chapman(double x, double cos_zenith)
   double knee = p.a / sqrt(2.0 * x);
   double total;
   if (knee > 0.0 && knee < top)
-    total = adaptive(&p, 0.0, knee, 1e-13, 0) + adaptive(&p, knee, top, 1e-13, 0);
+    total = adaptive(&p, 0.0, knee, 1e-13) + adaptive(&p, knee, top, 1e-13);
   else
-    total = adaptive(&p, 0.0, top, 1e-13, 0);
+    total = adaptive(&p, 0.0, top, 1e-13);
   return total;
 }
 

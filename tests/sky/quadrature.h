@@ -53,12 +53,29 @@ static inline double ref_gk15(ref_fn f, const void *ctx, double a, double b, dou
   return k * h;
 }
 
-static inline double ref_adaptive(ref_fn f, const void *ctx, double a, double b, double tol, int depth)
+/* Global adaptive bisection with a bounded number of panels (bounded work for every input). */
+#define REF_MAX_PANELS 400
+static inline double ref_adaptive(ref_fn f, const void *ctx, double lo, double hi, double tol)
 {
-  double err, v = ref_gk15(f, ctx, a, b, &err);
-  if (err <= tol || depth > 50) return v;
-  double m = 0.5 * (a + b);
-  return ref_adaptive(f, ctx, a, m, 0.5 * tol, depth + 1) + ref_adaptive(f, ctx, m, b, 0.5 * tol, depth + 1);
+  static double a[REF_MAX_PANELS], b[REF_MAX_PANELS], v[REF_MAX_PANELS], e[REF_MAX_PANELS];
+  int n = 1;
+  a[0] = lo, b[0] = hi;
+  v[0] = ref_gk15(f, ctx, lo, hi, &e[0]);
+  for (;;) {
+    double total = 0.0, error = 0.0;
+    int worst = 0;
+    for (int i = 0; i < n; ++i) {
+      total += v[i], error += e[i];
+      if (e[i] > e[worst]) worst = i;
+    }
+    if (error <= tol || error <= 1e-15 * fabs(total) || n + 1 > REF_MAX_PANELS) return total;
+    double mid = 0.5 * (a[worst] + b[worst]);
+    a[n] = mid, b[n] = b[worst];
+    v[n] = ref_gk15(f, ctx, mid, b[worst], &e[n]);
+    b[worst] = mid;
+    v[worst] = ref_gk15(f, ctx, a[worst], mid, &e[worst]);
+    ++n;
+  }
 }
 
 /* Integral of f over [0, end] (end may be infinite): decades as breakpoints, a coarse pass for
@@ -74,7 +91,7 @@ static inline double ref_integrate(ref_fn f, const void *ctx, double end, double
   double scale = 0.0, err;
   for (int i = 0; i + 1 < n; ++i) scale += fabs(ref_gk15(f, ctx, cuts[i], cuts[i + 1], &err));
   double total = 0.0;
-  for (int i = 0; i + 1 < n; ++i) total += ref_adaptive(f, ctx, cuts[i], cuts[i + 1], rel_tol * scale / (n - 1), 0);
+  for (int i = 0; i + 1 < n; ++i) total += ref_adaptive(f, ctx, cuts[i], cuts[i + 1], rel_tol * scale / (n - 1));
   return total;
 }
 

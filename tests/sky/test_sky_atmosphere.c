@@ -92,6 +92,10 @@ static void chapman(void)
     double want = ref_integrate(chapman_path, &p, INFINITY, 1e-12);
     CHECK_CLOSE(sl_chapman(p.x, p.c), want, 1e-9, 0.0);
   }
+  /* extreme arguments stay finite and continuous (bounded adaptive work) */
+  CHECK_CLOSE(sl_chapman(796.375, 1e-300), sl_chapman(796.375, 0.0), 1e-9, 0.0);
+  CHECK_CLOSE(sl_chapman(796.375, 1e-12), sl_chapman(796.375, 0.0), 1e-6, 0.0);
+  CHECK(isfinite(sl_chapman(1.0, 0.5)) && isfinite(sl_chapman(1e5, 1e-3)));
   /* high sun: round -> flat (1/cos) with the classic correction tan^2 / x */
   double c = 0.8, flat = 1.0 / c;
   double round = sl_chapman(796.375, c);
