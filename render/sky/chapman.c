@@ -33,8 +33,9 @@ typedef struct chapman_args {
 
 static double chapman_integrand(const chapman_args *p, double w)
 {
+  /* hypot: a^2 and w^2 underflow for a sun a hair above the horizon (cos chi ~ 1e-300). */
   double w2 = w * w;
-  return exp(-w2) * 2.0 * w * (p->x + w2) / sqrt(p->a * p->a + w2 * (2.0 * p->x + w2));
+  return exp(-w2) * 2.0 * w * (p->x + w2) / hypot(p->a, w * sqrt(2.0 * p->x + w2));
 }
 
 /* One 15-point Kronrod estimate on [lo, hi] and its difference from the embedded 7-point Gauss. */
