@@ -183,8 +183,10 @@ int sl_mie_s11_mirrored(double x, double m_re, double m_im, const double *mu_hal
   if (n_half < 1 || !mu_half || !s11) return sl_fail(err, SL_ERR_ARG, "mie: bad mirrored angle list");
   int terms, n_start;
   const size_t coef_bytes = coefficient_bytes(x, m_re, m_im, &terms, &n_start);
-  /* per angle: pi_prev, pi (2 doubles) and S1(+mu), S2(+mu), S1(-mu), S2(-mu) (4 complex) */
-  const size_t angle_bytes = (size_t)n_half * (2 * sizeof(double) + 4 * sizeof(double complex));
+  /* Per angle, in separate real arrays so that the loop over angles vectorises: pi_{n-1}, pi_n
+   * and the real and imaginary parts of S1(+mu), S2(+mu), S1(-mu), S2(-mu). */
+  enum { ARRAYS = 10 };
+  const size_t angle_bytes = (size_t)n_half * ARRAYS * sizeof(double);
   void *own;
   void *mem = workspace_get(ws, coef_bytes + angle_bytes, &own);
   if (!mem) return sl_fail(err, SL_ERR_NOMEM, "mie: out of memory for %d terms", terms);
@@ -194,35 +196,45 @@ int sl_mie_s11_mirrored(double x, double m_re, double m_im, const double *mu_hal
   mie_efficiencies(x, &c, &eff);
   if (out) *out = eff;
 
-  double complex *S1p = (double complex *)((char *)mem + coef_bytes);
-  double complex *S2p = S1p + n_half, *S1m = S2p + n_half, *S2m = S1m + n_half;
-  double *pi_prev = (double *)(S2m + n_half), *pi = pi_prev + n_half;
+  double *base = (double *)((char *)mem + coef_bytes);
+  double *restrict pi_prev = base, *restrict pi = base + n_half;
+  double *restrict s1p_re = base + 2 * n_half, *restrict s1p_im = base + 3 * n_half;
+  double *restrict s2p_re = base + 4 * n_half, *restrict s2p_im = base + 5 * n_half;
+  double *restrict s1m_re = base + 6 * n_half, *restrict s1m_im = base + 7 * n_half;
+  double *restrict s2m_re = base + 8 * n_half, *restrict s2m_im = base + 9 * n_half;
   for (int j = 0; j < n_half; ++j) {
-    S1p[j] = S2p[j] = S1m[j] = S2m[j] = 0.0;
     pi_prev[j] = 0.0;
     pi[j] = 1.0;
+    s1p_re[j] = s1p_im[j] = s2p_re[j] = s2p_im[j] = 0.0;
+    s1m_re[j] = s1m_im[j] = s2m_re[j] = s2m_im[j] = 0.0;
   }
   for (int n = 1; n <= terms; ++n) {
     const double f = (2.0 * n + 1.0) / ((double)n * (n + 1.0));
-    const double complex A = f * c.a[n], B = f * c.b[n];
+    const double ar = f * creal(c.a[n]), ai = f * cimag(c.a[n]), br = f * creal(c.b[n]), bi = f * cimag(c.b[n]);
     const double parity = (n & 1) ? 1.0 : -1.0; /* (-1)^(n-1) */
-    const double k1 = (2.0 * n + 1.0) / n, k2 = (n + 1.0) / n;
+    const double k1 = (2.0 * n + 1.0) / n, k2 = (n + 1.0) / n, dn = (double)n, dn1 = n + 1.0;
     for (int j = 0; j < n_half; ++j) {
       const double u = mu_half[j], p = pi[j];
-      const double t = n * u * p - (n + 1.0) * pi_prev[j];
-      const double complex Ap = A * p, Bt = B * t, At = A * t, Bp = B * p;
-      S1p[j] += Ap + Bt;
-      S2p[j] += At + Bp;
-      S1m[j] += parity * (Ap - Bt);
-      S2m[j] += parity * (Bp - At);
+      const double t = dn * u * p - dn1 * pi_prev[j];
+      /* S1 = sum f (a pi + b tau), S2 = sum f (a tau + b pi); at -mu, pi picks up (-1)^(n-1)
+       * and tau (-1)^n. */
+      s1p_re[j] += ar * p + br * t;
+      s1p_im[j] += ai * p + bi * t;
+      s2p_re[j] += ar * t + br * p;
+      s2p_im[j] += ai * t + bi * p;
+      s1m_re[j] += parity * (ar * p - br * t);
+      s1m_im[j] += parity * (ai * p - bi * t);
+      s2m_re[j] += parity * (br * p - ar * t);
+      s2m_im[j] += parity * (bi * p - ai * t);
       const double next = k1 * u * p - k2 * pi_prev[j];
       pi_prev[j] = p;
       pi[j] = next;
     }
   }
   for (int j = 0; j < n_half; ++j) {
-    s11[j] = 0.5 * (cabs(S1p[j]) * cabs(S1p[j]) + cabs(S2p[j]) * cabs(S2p[j]));
-    s11[2 * n_half - 1 - j] = 0.5 * (cabs(S1m[j]) * cabs(S1m[j]) + cabs(S2m[j]) * cabs(S2m[j]));
+    s11[j] = 0.5 * (s1p_re[j] * s1p_re[j] + s1p_im[j] * s1p_im[j] + s2p_re[j] * s2p_re[j] + s2p_im[j] * s2p_im[j]);
+    s11[2 * n_half - 1 - j] =
+        0.5 * (s1m_re[j] * s1m_re[j] + s1m_im[j] * s1m_im[j] + s2m_re[j] * s2m_re[j] + s2m_im[j] * s2m_im[j]);
   }
   free(own);
   return SL_OK;

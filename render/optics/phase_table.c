@@ -70,27 +70,46 @@ static void moments_of_grid_function(const optics_grid *g, const double *v, int 
   const int n_int = g->n_angles - 1;
   /* Fixed chunks summed in a fixed order: the moments do not depend on the thread count. */
   enum { CHUNKS = 16 };
-  double *acc = calloc((size_t)CHUNKS * (size_t)n_moments, sizeof(double));
+  double *acc = calloc((size_t)CHUNKS * (size_t)n_moments + 2 * (size_t)n_moments, sizeof(double));
   if (!acc) return;
+  /* Bonnet's recurrence P_l = a_l x P_{l-1} - b_l P_{l-2}, coefficients precomputed so that the
+   * inner loop has no division and runs over the Q quadrature points of a cell at once. */
+  double *ra = acc + (size_t)CHUNKS * (size_t)n_moments, *rb = ra + n_moments;
+  for (int l = 2; l < n_moments; ++l) {
+    ra[l] = (2.0 * l - 1.0) / l;
+    rb[l] = (l - 1.0) / l;
+  }
 #pragma omp parallel for schedule(dynamic, 1)
   for (int c = 0; c < CHUNKS; ++c) {
     double *a = acc + (size_t)c * (size_t)n_moments;
     for (int j = c * n_int / CHUNKS; j < (c + 1) * n_int / CHUNKS; ++j) {
       const double t0 = g->theta[j], h = g->step_rad;
+      double x[Q], wv[Q], p0[Q], p1[Q];
       for (int q = 0; q < Q; ++q) {
         const double s = 0.5 * (gx[q] + 1.0), t = t0 + s * h;
         const double value = (1.0 - s) * v[j] + s * v[j + 1];
-        const double wv = 2.0 * SL_PI * 0.5 * h * gw[q] * sin(t) * value;
-        const double x = cos(t);
-        double p0 = 1.0, p1 = x;
-        a[0] += wv;
-        if (n_moments > 1) a[1] += wv * x;
-        for (int l = 2; l < n_moments; ++l) {
-          const double p2 = ((2.0 * l - 1.0) * x * p1 - (l - 1.0) * p0) / l;
-          a[l] += wv * p2;
-          p0 = p1;
-          p1 = p2;
+        wv[q] = 2.0 * SL_PI * 0.5 * h * gw[q] * sin(t) * value;
+        x[q] = cos(t);
+        p0[q] = 1.0;
+        p1[q] = x[q];
+      }
+      double s0 = 0.0, s1 = 0.0;
+      for (int q = 0; q < Q; ++q) {
+        s0 += wv[q];
+        s1 += wv[q] * x[q];
+      }
+      a[0] += s0;
+      if (n_moments > 1) a[1] += s1;
+      for (int l = 2; l < n_moments; ++l) {
+        const double al = ra[l], bl = rb[l];
+        double sum = 0.0;
+        for (int q = 0; q < Q; ++q) {
+          const double p2 = al * x[q] * p1[q] - bl * p0[q];
+          p0[q] = p1[q];
+          p1[q] = p2;
+          sum += wv[q] * p2;
         }
+        a[l] += sum;
       }
     }
   }
@@ -195,6 +214,20 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
   }
   int lmax_all = 0;
   for (size_t n = 0; n < rows; ++n) lmax_all = lmax[n] > lmax_all ? lmax[n] : lmax_all;
+  /* Coefficients transposed to [l][n] so that the inner loop over orders is contiguous. */
+  double *coef_ln = malloc(sizeof(double) * rows * (size_t)(lmax_all > 0 ? lmax_all : 1));
+  double *ra = malloc(sizeof(double) * (size_t)(lmax_all + 2)), *rb = malloc(sizeof(double) * (size_t)(lmax_all + 2));
+  if (!coef_ln || !ra || !rb) {
+    free(coef_ln), free(ra), free(rb);
+    free(mem), memset(out, 0, sizeof *out), free(coef), free(row), free(lmax), free(ptrunc), free(chi);
+    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N);
+  }
+  for (int l = 0; l < lmax_all; ++l)
+    for (size_t n = 0; n < rows; ++n) coef_ln[(size_t)l * rows + n] = l < lmax[n] ? coef[n * L + l] : 0.0;
+  for (int l = 2; l < lmax_all; ++l) {
+    ra[l] = (2.0 * l - 1.0) / l;
+    rb[l] = (l - 1.0) / l;
+  }
 #pragma omp parallel for schedule(dynamic, 16)
   for (int j = 0; j < J; ++j) {
     const double x = g->mu[j];
@@ -202,13 +235,14 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
     double acc[SL_OPTICS_MAX_ORDER + 1];
     for (size_t n = 0; n < rows; ++n) acc[n] = coef[n * L];
     for (int l = 1; l < lmax_all; ++l) {
-      const double pl = l == 1 ? x : ((2.0 * l - 1.0) * x * p1 - (l - 1.0) * p0) / l;
+      double pl = x;
       if (l >= 2) {
+        pl = ra[l] * x * p1 - rb[l] * p0;
         p0 = p1;
         p1 = pl;
       }
-      for (size_t n = 2; n < rows; ++n)
-        if (l < lmax[n]) acc[n] += coef[n * L + l] * pl;
+      const double *c = coef_ln + (size_t)l * rows;
+      for (size_t n = 2; n < rows; ++n) acc[n] += c[n] * pl;
     }
     row[j] = 0.0;
     row[J + j] = ptrunc[j];
@@ -245,7 +279,7 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
   out->truncated_fraction = f;
   out->step_rad = g->step_rad;
   out->inv_step_rad = 1.0 / g->step_rad;
-  free(coef), free(row), free(lmax), free(ptrunc), free(chi);
+  free(coef), free(row), free(lmax), free(ptrunc), free(chi), free(coef_ln), free(ra), free(rb);
   return SL_OK;
 }
 
