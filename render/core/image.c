@@ -11,10 +11,12 @@ int sl_image_alloc(sl_image *img, int width, int height, sl_error *err)
   const size_t n = (size_t)width * (size_t)height;
   img->rgba = calloc(4 * n, sizeof(float));
   img->depth = calloc(n, sizeof(float));
-  if (!img->rgba || !img->depth) {
+  img->transparency = malloc(n * sizeof(float));
+  if (!img->rgba || !img->depth || !img->transparency) {
     sl_image_free(img);
     return sl_fail(err, SL_ERR_NOMEM, "out of memory for a %dx%d image", width, height);
   }
+  for (size_t i = 0; i < n; ++i) img->transparency[i] = 1.0f;
   img->width = width;
   img->height = height;
   return SL_OK;
@@ -24,6 +26,7 @@ void sl_image_free(sl_image *img)
 {
   free(img->rgba);
   free(img->depth);
+  free(img->transparency);
   *img = (sl_image){0};
 }
 
@@ -31,10 +34,11 @@ void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *
 {
   const size_t n = (size_t)layer->width * layer->height;
   for (size_t i = 0; i < n; ++i) {
-    const float keep = 1.0f - layer->rgba[4 * i + 3];
+    const float keep = layer->transparency[i];
     for (int c = 0; c < 3; ++c) out->rgba[4 * i + c] = layer->rgba[4 * i + c] + keep * background->rgba[4 * i + c];
     out->rgba[4 * i + 3] = layer->rgba[4 * i + 3];
     out->depth[i] = layer->depth[i];
+    out->transparency[i] = layer->transparency[i];
   }
 }
 

@@ -13,12 +13,14 @@ typedef struct sl_image {
   int width, height;
   float *rgba;   /* 4 floats per pixel, row-major, row 0 at the top */
   float *depth;  /* distance along the view axis to the volume's opacity-weighted depth; +inf where empty */
+  float *transparency; /* exp(-tau) toward the eye, kept apart from alpha = 1 - transparency, which
+                          cannot hold a transparency below float's epsilon (tau > ~16) */
 } sl_image;
 
 int sl_image_alloc(sl_image *img, int width, int height, sl_error *err);
 void sl_image_free(sl_image *img);
-/* out = layer + (1 - layer.alpha) * background for premultiplied RGBA ("over"); out's alpha is
- * the layer's coverage and its depth the layer's depth. out may alias layer. */
+/* out = layer + layer.transparency * background for premultiplied RGBA ("over"); out's alpha is
+ * the layer's coverage and its depth and transparency the layer's. out may alias layer. */
 void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *out);
 
 typedef struct sl_image_metrics {

@@ -86,6 +86,45 @@ int sl_sky_segment(const sl_atmosphere *atm, const double eye[3], const double d
   return SL_OK;
 }
 
+int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double eye[3],
+                     const double sun_dir[3], sl_error *err)
+{
+  if (!view || !atm || !eye || !sun_dir) return sl_fail(err, SL_ERR_ARG, "sky: NULL argument");
+  if (!finite3(eye)) return sl_fail(err, SL_ERR_ARG, "sky: eye is not finite");
+  int status = unit_direction(sun_dir, view->sun, "sun direction", err);
+  if (status) return status;
+  view->atm = atm;
+  for (int i = 0; i < 3; ++i) view->eye[i] = eye[i];
+  view->airmass = sl_sky_airmass(atm, eye[2], view->sun[2]);
+  view->night = isinf(view->airmass);
+  return SL_OK;
+}
+
+void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_near, double t_far,
+                         double *radiance, double *transparency)
+{
+  const sl_atmosphere *atm = view->atm;
+  double gamma = 1.0 / atm->scale_height, mu = dir[2], z_eye = view->eye[2];
+  /* the part of the ray that exists: a downward ray ends on the ground */
+  double end = sl_sky_segment_length(z_eye, mu, t_far);
+  double near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
+  double z_near = z_eye + mu * near;
+  double length = isinf(end) ? end : end - near;
+  double cos_view_sun = dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2];
+  for (int i = 0; i < atm->count; ++i) {
+    double beta = atm->beta_sea_level[i];
+    double front = exp(-sl_sky_optical_depth(beta, gamma, z_eye, z_near, near));
+    if (radiance)
+      radiance[i] = atm->sun_irradiance[i] * front *
+                    sl_sky_inscatter(beta, gamma, z_near, mu, length, view->airmass, cos_view_sun);
+    if (transparency) {
+      double depth = isinf(length) ? (mu > 0.0 ? beta * exp(-gamma * z_near) / (gamma * mu) : INFINITY)
+                                   : sl_sky_optical_depth(beta, gamma, z_near, z_near + mu * length, length);
+      transparency[i] = exp(-depth);
+    }
+  }
+}
+
 double sl_sun_disk_solid_angle(void)
 {
   const double radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;

@@ -89,6 +89,27 @@ int sl_sky_segment(const sl_atmosphere *atm, const double eye[3], const double d
                    double distance, const double sun_dir[3], double *radiance,
                    double *transparency, int *night, sl_error *err);
 
+/* Plan once per frame: the eye, the sun and the sun's air mass at the eye (for the round earth
+ * one Chapman quadrature, ~2 us), so per-pixel queries cost only the closed forms. */
+typedef struct sl_sky_view {
+  const sl_atmosphere *atm;
+  double eye[3];
+  double sun[3];     /* unit, toward the sun */
+  double airmass;    /* sun air mass at the eye's height; infinite at night */
+  int night;
+} sl_sky_view;
+
+int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double eye[3],
+                     const double sun_dir[3], sl_error *err);
+/* Sky light reaching the eye from the part [t_near, t_far] of the ray eye + t dir (t_far may be
+ * INFINITY: to the top of the atmosphere, or to the ground for a downward ray), already
+ * attenuated by the air between the eye and t_near, and the transparency of [t_near, t_far].
+ * Splitting a ray at any t gives front + T(front) * back = whole: the renderer's split at the
+ * volume's midplane (section 5) is exact. dir must be a unit vector; either output may be NULL.
+ * The air mass is the eye's for the whole ray (docs/SKY.md: below 0.2% from the exact one). */
+void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_near, double t_far,
+                         double *radiance, double *transparency);
+
 /* Section 4.2.4: the direct sun. Angular diameter 0.5 degrees. */
 #define SL_SUN_ANGULAR_DIAMETER_DEG 0.5
 /* Returns 1 when dir lies within the sun's disk (and the sun is up), else 0. */

@@ -51,6 +51,17 @@ int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err)
   return SL_OK;
 }
 
+int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth)
+{
+  /* Consecutive planes s and s + ds are ds / |h_a| apart along axis a: one grid spacing per slab
+   * along every axis needs ds <= min_a spacing_a / |h_a|. */
+  double ds = INFINITY;
+  for (int a = 0; a < 3; ++a)
+    if (fabs(h[a]) > 1e-12) ds = fmin(ds, v->spacing[a] / fabs(h[a]));
+  const double n = ceil(depth / ds);
+  return n < 64 ? 64 : n > 4096 ? 4096 : (int)n;
+}
+
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out)
 {
   const double p[3] = {-sun_dir[0], -sun_dir[1], -sun_dir[2]}; /* light propagation */
@@ -92,7 +103,6 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   }
   r->scene = *scene;
   memcpy(r->scene.sun_direction, sun, sizeof sun);
-  if (r->scene.slices == 0) r->scene.slices = 256;
   r->shape = *scene->volume;
   memset(r->shape.eta, 0, sizeof r->shape.eta);
   r->beta = malloc(sl_volume_count(scene->volume) * sizeof(float));
@@ -171,14 +181,23 @@ static int clip_segment(double c, double half, double t0, double t1, double *mid
 }
 
 /* Single scattering gathered over one eye segment of length len with constant extinction beta,
- * per unit of the light arriving at its near end, when the light's own path grows by `rate`-1
- * metres per metre along the segment: beta * integral_0^len exp(-beta rate u) du. rate = 1 is
- * a light path that does not change; rate may be <= 0 when the segment runs toward the sun. */
-static double scatter_over_segment(double beta, double len, double rate)
+ * when the light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u)
+ * on top of the eye's exp(-beta u): m[0] = beta int_0^len exp(-beta rate u) du and
+ * m[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
+ * constant and one that grows linearly from 0 to 1 along the segment. rate may be <= 0 when the
+ * segment runs toward the sun. */
+static void scatter_over_segment(double beta, double len, double rate, double m[2])
 {
   const double x = beta * rate * len;
-  if (fabs(x) < 1e-8) return beta * len * (1.0 - 0.5 * x);
-  return beta * len * (-expm1(-x) / x);
+  if (fabs(x) < 1e-4) {
+    /* Taylor series: the closed forms cancel catastrophically near x = 0. */
+    m[0] = beta * len * (1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0);
+    m[1] = beta * len * (0.5 - x / 3.0 + x * x / 8.0 - x * x * x / 30.0);
+    return;
+  }
+  const double e = exp(-x);
+  m[0] = beta * len * (-expm1(-x) / x);
+  m[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
 
 typedef struct light_buffer {
@@ -239,7 +258,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     if (s < smin) smin = s;
     if (s > smax) smax = s;
   }
-  const int nslices = sc->slices;
+  int nslices = sc->slices;
+  if (nslices == 0) nslices = sl_slices_resolving_grid(&r->shape, h, smax - smin);
   const double ds = (smax - smin) / nslices;
   const double hp = dot3(h, prop); /* > 0 by construction */
 
@@ -264,10 +284,15 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     const double extent = fmax(amax - L.amin, bmax - L.bmin);
     int res = sc->light_resolution;
     if (res == 0) {
-      /* Resolve the finest grid spacing, within 64..1024 texels. */
-      const double finest = fmin(r->shape.spacing[0], fmin(r->shape.spacing[1], r->shape.spacing[2]));
-      res = (int)ceil(extent / finest);
-      res = res < 64 ? 64 : res > 1024 ? 1024 : res;
+      /* Resolve one grid spacing along every axis as the sun sees it: axis a foreshortens by
+       * sqrt(1 - p_a^2) on the light buffer; within 64..2048 texels. */
+      double texel = INFINITY;
+      for (int a = 0; a < 3; ++a) {
+        const double foreshortening = sqrt(fmax(0.0, 1.0 - prop[a] * prop[a]));
+        if (foreshortening > 0.05) texel = fmin(texel, r->shape.spacing[a] * foreshortening);
+      }
+      res = (int)ceil(extent / texel);
+      res = res < 64 ? 64 : res > 2048 ? 2048 : res;
     }
     L.texel = extent / res;
     L.w = (int)ceil((amax - L.amin) / L.texel - 1e-9);
@@ -358,17 +383,23 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double beta = sl_grid_sample(&r->beta_view, x);
         eye_samples++;
         if (!(beta > 0.0)) continue;
-        /* The light buffer holds the sunlight's transparency up to this slab's first plane. Along
-         * the eye segment (constant beta) the remaining path to that plane changes linearly,
-         * at hd/hp per metre, so the gather has a closed form (see scatter_over_segment). */
-        const double t_near = mid - 0.5 * len;
+        /* The light buffer holds the sunlight's transparency up to this slab's first plane; from
+         * there the light crosses this slab's own medium (constant beta) for a path that grows
+         * linearly along the eye segment. Across the segment the buffer value is taken linear
+         * between its two ends, so the gather has a closed form (scatter_over_segment). */
+        const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
-        double to_slab = (dot3(h, x_near) - (sk - 0.5 * ds)) / hp;
-        const double to_box = distance_to_box_toward(r->lo, r->hi, x_near, sun);
-        if (to_slab > to_box) to_slab = to_box;
-        if (to_slab < 0.0) to_slab = 0.0;
-        const double light_near = light_lookup(&L, x_near) * exp(-beta * to_slab);
-        const double gathered = light_near * scatter_over_segment(beta, len, 1.0 + hd / hp);
+        const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
+        const double s_start = sk - 0.5 * ds;
+        const double path_near = fmax(0.0, fmin((dot3(h, x_near) - s_start) / hp,
+                                                distance_to_box_toward(r->lo, r->hi, x_near, sun)));
+        const double path_far = fmax(0.0, fmin((dot3(h, x_far) - s_start) / hp,
+                                               distance_to_box_toward(r->lo, r->hi, x_far, sun)));
+        const double light_rate = (path_far - path_near) / len;
+        const double l0 = light_lookup(&L, x_near), l1 = light_lookup(&L, x_far);
+        double moments[2];
+        scatter_over_segment(beta, len, 1.0 + light_rate, moments);
+        const double gathered = exp(-beta * path_near) * (l0 * moments[0] + (l1 - l0) * moments[1]);
         const double opacity = -expm1(-beta * len);
         const double depth = mid * dot3(rq, fwd);
         float *a = acc + q * (SL_CHANNELS + 2);
@@ -418,6 +449,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       const float transparency = a[SL_CHANNELS];
       for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = a[c];
       img->rgba[4 * q + 3] = 1.0f - transparency;
+      img->transparency[q] = transparency;
       const double coverage = 1.0 - transparency;
       img->depth[q] = coverage > 1e-4 ? (float)(a[SL_CHANNELS + 1] / coverage) : INFINITY;
     }

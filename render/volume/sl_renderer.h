@@ -27,7 +27,7 @@ typedef struct sl_scene {
   double sun_irradiance[SL_CHANNELS]; /* collimated irradiance reaching the volume */
   double sky_radiance[SL_CHANNELS]; /* constant background sky (replaced by render/sky later) */
   double albedo;                    /* single-scattering albedo of every hydrometeor (paper: 1) */
-  int slices;                       /* slicing planes across the volume; 0 picks 256 */
+  int slices;                       /* slicing planes across the volume; 0: as many as resolve the grid */
   int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
   sl_lighting lighting;
   /* Called from one thread after each slice with the fraction done; may be NULL. */
@@ -80,6 +80,10 @@ void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
  * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye
  * compositing back to front. Never degenerate: |±v + p| >= sqrt(2). */
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out);
+
+/* The number of slices whose spacing along h resolves one grid cell along every axis (the data's
+ * own resolution), for a box `depth` metres deep along h; within 64..4096. */
+int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth);
 
 /* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample,
  * Riley et al. 2004, eqs. 2-3: beta_ex = sum_i eta_i sigma_ex,i. */

@@ -253,8 +253,42 @@ static void round_sky_approximation(void)
   printf("round earth sky, air mass frozen at the eye vs per height: worst relative difference %.3g\n", worst);
 }
 
+/* The renderer's split at the volume's midplane: front + T(front) * back = whole. */
+static void split_segments(void)
+{
+  sl_atmosphere round;
+  sl_atmosphere_init(&round, sl_sky_rgb_wavelengths_nm, 3, SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, NULL);
+  const double eye[3] = {0, 0, 300.0};
+  double sun[3];
+  sl_sun_direction(4.0, 250.0, sun);
+  sl_sky_view view;
+  CHECK(sl_sky_view_init(&view, &round, eye, sun, NULL) == SL_OK);
+  const double els[] = {-3.0, 0.0, 2.0, 4.0, 45.0};
+  const double splits[] = {0.0, 1.0, 5e3, 3e4, 1e5};
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      double dir[3], whole[3], front[3], back[3], tf[3], tw[3], tb[3];
+      sl_sun_direction(els[i], 200.0, dir);
+      sl_sky_view_segment(&view, dir, 0.0, INFINITY, whole, tw);
+      sl_sky_view_segment(&view, dir, 0.0, splits[j], front, tf);
+      sl_sky_view_segment(&view, dir, splits[j], INFINITY, back, tb);
+      for (int c = 0; c < 3; ++c) {
+        CHECK_CLOSE(front[c] + back[c], whole[c], 1e-12, 1e-300);
+        CHECK_CLOSE(tf[c] * tb[c], tw[c], 1e-12, 1e-300);
+      }
+      /* the whole ray agrees with sl_sky_segment */
+      double direct[3], dt[3];
+      sl_sky_segment(&round, eye, dir, INFINITY, sun, direct, dt, NULL, NULL);
+      for (int c = 0; c < 3; ++c) {
+        CHECK_CLOSE(whole[c], direct[c], 1e-12, 1e-300);
+        CHECK_CLOSE(tw[c], dt[c], 1e-12, 1e-300);
+      }
+    }
+}
+
 int main(void)
 {
+  split_segments();
   round_sky_approximation();
   rayleigh_coefficients();
   chapman();
