@@ -26,13 +26,13 @@ bool ends_with(const std::string &s, const std::string &tail)
 
 // Fills rgba (width x height) with the sky seen from eye: fisheye (equidistant, zenith at the
 // centre, north up, east left as on a sky chart) or panorama (equirectangular, azimuth 0..360
-// from the left edge, elevation +90..-90 from the top). Uses the per-sample functions with the
-// air mass computed once, as the renderer should.
+// from the left edge, elevation +90..-90 from the top). Plans one sl_sky_view per image, as the
+// renderer should.
 void render_sky(const sl_atmosphere &atm, const double eye[3], const double sun[3], bool fisheye, int width,
                 int height, float *rgba)
 {
-  const double gamma = 1.0 / atm.scale_height;
-  const double airmass = sl_sky_airmass(&atm, eye[2], sun[2]);
+  sl_sky_view view;
+  sl_sky_view_init(&view, &atm, eye, sun, nullptr);
   std::vector<double> disk(atm.count);
   sl::Progress progress("sky", true);
   for (int y = 0; y < height; ++y) {
@@ -57,14 +57,10 @@ void render_sky(const sl_atmosphere &atm, const double eye[3], const double sun[
         dir[1] = std::cos(el) * std::cos(az);
         dir[2] = std::sin(el);
       }
-      const double mu = dir[2];
-      const double length = sl_sky_segment_length(eye[2], mu, INFINITY);
-      const double cos_view_sun = dir[0] * sun[0] + dir[1] * sun[1] + dir[2] * sun[2];
+      double sky[3];
+      sl_sky_view_segment(&view, dir, 0.0, INFINITY, sky, nullptr);
       sl_sky_sun_disk_radiance(&atm, eye, dir, sun, disk.data());
-      for (int c = 0; c < 3; ++c)
-        px[c] = (float)(atm.sun_irradiance[c] * sl_sky_inscatter(atm.beta_sea_level[c], gamma, eye[2], mu, length,
-                                                                   airmass, cos_view_sun) +
-                        disk[c]);
+      for (int c = 0; c < 3; ++c) px[c] = (float)(sky[c] + disk[c]);
       px[3] = 1.0f;
     }
   }
