@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# First set-up command: installs Debian 12 packages (as root, or through sudo), builds Stormlight,
+# and renders the bundled sample storm into out/ (EXR and PNG).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(build-essential cmake pkg-config libvtk9-dev mpi-default-dev libnetcdf-dev netcdf-bin
+  libopenexr-dev libgeographiclib-dev libfftw3-dev libpng-dev libcjson-dev xvfb xauth libgl1-mesa-dri)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi
+  echo "installing: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j"$(nproc)"
+
+mkdir -p out
+sl=build/release/app/stormlight
+xvfb-run -a "$sl" render datasets/cumulonimbus.nc --out out/cumulonimbus.exr,out/cumulonimbus.png
+xvfb-run -a "$sl" render datasets/wrf_katrina2005_d02_mercator_wsm3_4t.nc \
+  --out out/katrina.exr,out/katrina.png --view-elevation 25 --sun-elevation 50
+echo "done: out/cumulonimbus.png, out/katrina.png (and .exr); the executable is $sl"

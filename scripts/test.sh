@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Second set-up command: builds and runs the test suite (everything but the 'slow' label).
+# The unit tests run twice: under AddressSanitizer + UndefinedBehaviorSanitizer, and in the
+# release build with the rest of the suite (regression, CLI, VTK under a virtual X server).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+
+cmake -S . -B build/asan -DSL_SANITIZE=ON -DSL_BUILD_APP=OFF -DCMAKE_BUILD_TYPE=Debug >/dev/null
+cmake --build build/asan -j"$jobs"
+ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
+  ctest --test-dir build/asan -L unit --output-on-failure -j"$jobs"
+
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j"$jobs"
+xvfb-run -a ctest --test-dir build/release -LE slow --output-on-failure
