@@ -49,7 +49,10 @@ bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why
     *why = "'" + text + "': unexpected '" + std::string(p) + "'";
     return false;
   }
-  if (mo < 1 || mo > 12 || d < 1 || d > 31 || h < 0 || h > 23 || mi < 0 || mi > 59) {
+  static const int kDays[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  if (mo < 1 || mo > 12 || d < 1 || d > kDays[mo - 1] || (mo == 2 && d == 29 && !leap) || h < 0 || h > 23 ||
+      mi < 0 || mi > 59) {
     *why = "'" + text + "': field out of range";
     return false;
   }

@@ -113,7 +113,7 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
   double cos_view_sun = dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2];
   for (int i = 0; i < atm->count; ++i) {
     double beta = atm->beta_sea_level[i];
-    double front = exp(-sl_sky_optical_depth(beta, gamma, z_eye, z_near, near));
+    double front = near > 0.0 ? exp(-sl_sky_optical_depth(beta, gamma, z_eye, z_near, near)) : 1.0;
     if (radiance)
       radiance[i] = atm->sun_irradiance[i] * front *
                     sl_sky_inscatter(beta, gamma, z_near, mu, length, view->airmass, cos_view_sun);
