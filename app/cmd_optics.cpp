@@ -234,6 +234,7 @@ int cmd_build(int argc, char **argv)
                 "took, the orders N reached and the cache's activity. Run twice to time a warm cache.");
   o.option("particles", "LIST", "comma-separated particle types", "cloud,rain,ice,snow");
   o.option("wavelengths", "SET", "rgb (650, 515, 440 nm) or spectral16 (380..720 nm)", "rgb");
+  o.option("max-order", "N", "highest order N (0 = until isotropic within 1e-4)", "0");
   o.flag("json", "print one JSON object");
   table_options(o);
   const int early = sl::parse_or_exit(o, argc, argv);
@@ -241,7 +242,10 @@ int cmd_build(int argc, char **argv)
   sl_optics_request req;
   sl_optics_request_defaults(&req);
   std::string cache_dir;
-  if (!read_table_options(o, &req, &cache_dir)) return sl::fail("optics build", o.error(), 2);
+  long max_order;
+  if (!read_table_options(o, &req, &cache_dir) || !o.integer("max-order", &max_order, 0, SL_OPTICS_MAX_ORDER))
+    return sl::fail("optics build", o.error(), 2);
+  req.max_order = (int)max_order;
   sl_error err{};
   if (sl_optics_request_wavelengths(&req, o.str("wavelengths").c_str(), &err)) return sl::fail("optics build", err.message, 2);
   req.particles = 0;
@@ -280,6 +284,11 @@ int cmd_build(int argc, char **argv)
       cJSON_AddNumberToObject(e, "asymmetry", t->asymmetry);
       cJSON_AddNumberToObject(e, "forward_delta", t->truncated_fraction);
       cJSON_AddNumberToObject(e, "max_order", t->max_order);
+      // First n with max |4 pi Ams_n - 1| below 1e-2, 1e-4, 1e-6 (-1: not reached by N).
+      const double tol[3] = {1e-2, 1e-4, 1e-6};
+      double iso[3];
+      for (int k = 0; k < 3; ++k) iso[k] = sl_phase_table_isotropic_order(t, tol[k]);
+      cJSON_AddItemToObject(e, "isotropic_order", cJSON_CreateDoubleArray(iso, 3));
       cJSON_AddItemToArray(parts, e);
     }
   if (o.has("json")) {
@@ -290,11 +299,14 @@ int cmd_build(int argc, char **argv)
     cJSON *e;
     cJSON_ArrayForEach(e, parts)
     {
-      std::printf("  %-5s %5.1f nm  sigma_ext %.4g m^2  albedo %.6f  g %.4f  forward Dirac %.4f  N %d\n",
+      cJSON *iso = cJSON_GetObjectItem(e, "isotropic_order");
+      std::printf("  %-5s %5.1f nm  sigma_ext %.4g m^2  albedo %.6f  g %.4f  forward Dirac %.4f  N %d  "
+                  "isotropic within 1e-2/1e-4/1e-6 at n = %d/%d/%d\n",
                   cJSON_GetObjectItem(e, "particle")->valuestring, cJSON_GetObjectItem(e, "wavelength_nm")->valuedouble,
                   cJSON_GetObjectItem(e, "sigma_ext")->valuedouble, cJSON_GetObjectItem(e, "albedo")->valuedouble,
                   cJSON_GetObjectItem(e, "asymmetry")->valuedouble, cJSON_GetObjectItem(e, "forward_delta")->valuedouble,
-                  cJSON_GetObjectItem(e, "max_order")->valueint);
+                  cJSON_GetObjectItem(e, "max_order")->valueint, cJSON_GetArrayItem(iso, 0)->valueint,
+                  cJSON_GetArrayItem(iso, 1)->valueint, cJSON_GetArrayItem(iso, 2)->valueint);
     }
     cJSON_Delete(root);
   }

@@ -51,7 +51,8 @@ typedef struct sl_optics_request {
                                 isotropy_tolerance (capped at SL_OPTICS_MAX_ORDER) */
   double isotropy_tolerance; /* max over theta of |4 pi Ams_n - 1|, default 1e-4 */
   int n_moments;             /* Legendre moments used for Ams_n; 0 = 2 * 180 / step */
-  double truncation_deg;     /* forward-peak truncation angle; 0 = one grid step */
+  double truncation_deg;     /* forward-peak truncation cone (half angle), default 0.5 (the sun's
+                                disk); 0 = one grid step */
   int radius_samples;        /* quadrature points across each size distribution, default 48 */
   long ice_rays;             /* geometric-optics rays per wavelength and habit, default 400000 */
   unsigned long long seed;   /* ice ray tracing; results do not depend on the thread count */

@@ -31,7 +31,7 @@ void sl_optics_request_defaults(sl_optics_request *req)
   req->max_order = 0;
   req->isotropy_tolerance = 1e-4;
   req->n_moments = 0;
-  req->truncation_deg = 0.0;
+  req->truncation_deg = 0.5;
   req->radius_samples = 32;
   req->ice_rays = 400000;
   req->seed = 20040612ULL;
