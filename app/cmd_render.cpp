@@ -78,7 +78,7 @@ int sl_cmd_render(int argc, char **argv)
   o.option("time", "N", "time index in the file", "0");
   o.option("width", "PX", "image width", "512");
   o.option("height", "PX", "image height", "512");
-  o.option("slices", "N", "slicing planes across the volume", "256");
+  o.option("slices", "N", "slicing planes across the volume (0 = enough to resolve the grid)", "0");
   o.option("light-resolution", "N", "light-buffer texels along its longer side (0 = automatic)", "0");
   o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north", "240");
   o.option("sun-elevation", "DEG", "sun elevation above the horizon", "35");
@@ -119,7 +119,7 @@ int sl_cmd_render(int argc, char **argv)
   double sun_az, sun_el, fov, exposure, view_az, view_el, dz;
   std::vector<double> sky;
   if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
-      !o.integer("slices", &slices, 1, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
+      !o.integer("slices", &slices, 0, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
       !o.integer("threads", &threads, 0, 1024) || !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) ||
       !o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el) || !o.number("fov", &fov) ||
       !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
@@ -145,6 +145,7 @@ int sl_cmd_render(int argc, char **argv)
     scene.sky_radiance[c] = sky[c];
   }
   scene.albedo = 1.0;
+  scene.termination_transparency = 1e-6;
   scene.slices = (int)slices;
   scene.light_resolution = (int)light_res;
   sl::Progress progress("rendering", !quiet);

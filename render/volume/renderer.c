@@ -59,7 +59,7 @@ int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth
   for (int a = 0; a < 3; ++a)
     if (fabs(h[a]) > 1e-12) ds = fmin(ds, v->spacing[a] / fabs(h[a]));
   const double n = ceil(depth / ds);
-  return n < 64 ? 64 : n > 4096 ? 4096 : (int)n;
+  return n < 256 ? 256 : n > 4096 ? 4096 : (int)n;
 }
 
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out)
@@ -414,6 +414,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
           a[SL_CHANNELS + 1] = (float)(a[SL_CHANNELS + 1] * (1.0 - opacity) + opacity * depth);
         }
         a[SL_CHANNELS] *= (float)exp(-beta * len);
+        if (!back_to_front && a[SL_CHANNELS] < sc->termination_transparency) pk[2 * q + 1] = k;
       }
 #pragma omp master
       {

@@ -30,6 +30,9 @@ typedef struct sl_scene {
   int slices;                       /* slicing planes across the volume; 0: as many as resolve the grid */
   int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
   sl_lighting lighting;
+  /* Front-to-back rays stop once their transparency falls below this (0: never). What is lost is
+   * at most this fraction of what lies behind. */
+  double termination_transparency;
   /* Called from one thread after each slice with the fraction done; may be NULL. */
   void (*progress)(void *user, double fraction);
   void *progress_user;
@@ -82,7 +85,8 @@ void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out);
 
 /* The number of slices whose spacing along h resolves one grid cell along every axis (the data's
- * own resolution), for a box `depth` metres deep along h; within 64..4096. */
+ * own resolution), for a box `depth` metres deep along h; at least 256 (the paper's count, which
+ * keeps slicing bands on optically thick surfaces fine) and at most 4096. */
 int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth);
 
 /* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample,
