@@ -75,11 +75,11 @@ int sl_sky_segment(const sl_atmosphere *atm, const double eye[3], const double d
       radiance[i] = atm->sun_irradiance[i] *
                     sl_sky_inscatter(beta, gamma, eye[2], mu, length, airmass, cos_view_sun);
     if (transparency) {
-      /* An infinite segment upward reaches the top of the atmosphere; horizontally it never
-       * leaves the flat atmosphere and is opaque. */
-      double depth = isinf(length) ? (mu > 0.0 ? beta * exp(-gamma * eye[2]) / (gamma * mu) : INFINITY)
-                                   : sl_sky_optical_depth(beta, gamma, eye[2], eye[2] + mu * length, length);
-      transparency[i] = exp(-depth);
+      /* Eq. 11 to distance `length`; an infinite segment upward reaches the top of the
+       * atmosphere, horizontally it never leaves the flat atmosphere and is opaque. */
+      double beta_eye = beta * exp(-gamma * eye[2]);
+      double factor = sl_sky_segment_length_factor(gamma, mu, length);
+      transparency[i] = !(beta_eye > 0.0) ? 1.0 : isinf(factor) ? 0.0 : exp(-beta_eye * factor);
     }
   }
   if (night) *night = isinf(airmass);
@@ -110,17 +110,23 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
   double near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
   double z_near = z_eye + mu * near;
   double length = isinf(end) ? end : end - near;
-  double cos_view_sun = dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2];
+  double phase = sl_sky_rayleigh_phase(dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2]);
+  /* wavelength-independent geometry, once per ray */
+  double front_factor = near > 0.0 ? sl_sky_path_length_factor(gamma, z_near - z_eye, near) : 0.0;
+  double density_eye = exp(-gamma * z_eye), density_near = exp(-gamma * z_near);
+  double seg_factor = length > 0.0 ? sl_sky_segment_length_factor(gamma, mu, length) : 0.0;
+  double far_density = length > 0.0 ? exp(mu == 0.0 ? 0.0 : -gamma * mu * length) : 1.0;
   for (int i = 0; i < atm->count; ++i) {
     double beta = atm->beta_sea_level[i];
-    double front = near > 0.0 ? exp(-sl_sky_optical_depth(beta, gamma, z_eye, z_near, near)) : 1.0;
+    double front = near > 0.0 ? exp(-beta * density_eye * front_factor) : 1.0;
     if (radiance)
-      radiance[i] = atm->sun_irradiance[i] * front *
-                    sl_sky_inscatter(beta, gamma, z_near, mu, length, view->airmass, cos_view_sun);
+      radiance[i] = atm->sun_irradiance[i] * front * phase *
+                    sl_sky_inscatter_gathered(beta * density_near, gamma, mu, seg_factor, far_density,
+                                              view->airmass);
     if (transparency) {
-      double depth = isinf(length) ? (mu > 0.0 ? beta * exp(-gamma * z_near) / (gamma * mu) : INFINITY)
-                                   : sl_sky_optical_depth(beta, gamma, z_near, z_near + mu * length, length);
-      transparency[i] = exp(-depth);
+      /* an infinite horizontal ray never leaves the flat atmosphere: opaque, unless there is no air */
+      double beta_near = beta * density_near;
+      transparency[i] = !(beta_near > 0.0) ? 1.0 : isinf(seg_factor) ? 0.0 : exp(-beta_near * seg_factor);
     }
   }
 }

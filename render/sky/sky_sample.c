@@ -56,36 +56,43 @@ double sl_sky_segment_length(double z_eye, double mu, double distance)
   return distance;
 }
 
-double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
-                        double distance, double airmass, double cos_view_sun)
+double sl_sky_segment_length_factor(double inv_scale_height, double mu, double distance)
+{
+  if (isinf(distance)) return mu > 0.0 ? 1.0 / (inv_scale_height * mu) : distance;
+  return distance * sl_sky_exprel(mu == 0.0 ? 0.0 : inv_scale_height * mu * distance);
+}
+
+double sl_sky_inscatter_gathered(double beta_eye, double inv_scale_height, double mu, double length,
+                                 double far_density, double airmass)
 {
   /* Riley et al. 2004, eqs. 14-15, corrected (docs/SKY.md): substituting u = exp(-gamma mu t)
    * into eq. 14 gives exp(-beta_eye / (gamma mu)) * l / (l - mu) * (e^a - e^{a u_K}); the printed
    * eq. 15 drops the first factor. We write the exact result as exp(-min(c, e)) * D *
    * exprel(|e - c|), which has no division by mu or by (mu - l). */
+  if (!(beta_eye > 0.0) || !(length > 0.0) || isinf(airmass)) return 0.0;
   double gamma = inv_scale_height;
-  double beta_eye = beta_sea_level * exp(-gamma * z_eye);
-  if (!(beta_eye > 0.0) || !(distance > 0.0) || isinf(airmass)) return 0.0;
-
-  double rise = mu == 0.0 ? 0.0 : gamma * mu * distance; /* gamma * (z_far - z_eye) */
-  double length;                                           /* D */
-  if (isinf(distance))
-    length = mu > 0.0 ? 1.0 / (gamma * mu) : distance;
-  else
-    length = distance * sl_sky_exprel(rise);
-  double far_density = exp(-rise); /* beta_K / beta_eye */
-
   double tau = beta_eye * length;
   double sun_depth_eye = beta_eye * airmass / gamma;
   double sun_depth_far = tau + beta_eye * far_density * airmass / gamma;
   double slope = 1.0 - mu * airmass; /* (e - c) / tau */
   double spread = tau * slope;
-
   double attenuation = spread >= 0.0 ? exp(-sun_depth_eye) : exp(-sun_depth_far);
   double gathered; /* D * exprel(|e - c|) = integral of exp(-|e - c| t / K) dt over the segment */
   if (isinf(length))
     gathered = 1.0 / (beta_eye * fabs(slope));
   else
     gathered = length * sl_sky_exprel(fabs(spread));
-  return sl_sky_rayleigh_phase(cos_view_sun) * beta_eye * attenuation * gathered;
+  return beta_eye * attenuation * gathered;
+}
+
+double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
+                        double distance, double airmass, double cos_view_sun)
+{
+  double gamma = inv_scale_height;
+  double beta_eye = beta_sea_level * exp(-gamma * z_eye);
+  if (!(distance > 0.0)) return 0.0;
+  double length = sl_sky_segment_length_factor(gamma, mu, distance); /* D */
+  double far_density = exp(mu == 0.0 ? 0.0 : -gamma * mu * distance); /* beta_K / beta_eye */
+  return sl_sky_rayleigh_phase(cos_view_sun) *
+         sl_sky_inscatter_gathered(beta_eye, gamma, mu, length, far_density, airmass);
 }

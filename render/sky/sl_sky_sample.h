@@ -59,6 +59,14 @@ double sl_sky_segment_length(double z_eye, double mu, double distance);
 double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
                         double distance, double airmass, double cos_view_sun);
 
+/* The same, split for callers that evaluate many wavelengths along one ray: the geometry is
+ * wavelength-independent. D = sl_sky_segment_length_factor(gamma, mu, K) (K may be infinite),
+ * far_density = exp(-gamma mu K) (0 for an infinite upward ray), beta_eye = beta_sl exp(-gamma z);
+ * returns L / (P(theta) I). */
+double sl_sky_segment_length_factor(double inv_scale_height, double mu, double distance);
+double sl_sky_inscatter_gathered(double beta_eye, double inv_scale_height, double mu, double length,
+                                 double far_density, double airmass);
+
 #ifdef __cplusplus
 }
 #endif
