@@ -90,6 +90,7 @@ int main(void)
   fine.particles = 1u << SL_CLOUD;
   fine.angle_step_deg = 0.05;
   fine.max_order = 2;
+  fine.n_moments = 400; /* only P itself is examined */
   sl_optics_tables *C = sl_optics_build(&fine, &err);
   CHECK_MSG(C != NULL, err.message);
   double first_min[3] = {0, 0, 0};
