@@ -56,7 +56,8 @@ typedef struct sl_optics_request {
   int radius_samples;        /* quadrature points across each size distribution, default 48 */
   long ice_rays;             /* geometric-optics rays per wavelength and habit, default 400000 */
   unsigned long long seed;   /* ice ray tracing; results do not depend on the thread count */
-  const char *cache_dir;     /* NULL: $SL_CACHE_DIR, $XDG_CACHE_HOME/stormlight, ~/.cache/stormlight */
+  const char *cache_dir;     /* NULL: $SL_CACHE_DIR, $XDG_CACHE_HOME/stormlight, ~/.cache/stormlight;
+                                if none resolves, tables are built without a cache */
   int use_cache;             /* default 1; 0 never reads or writes the cache */
   sl_optics_progress_fn progress; /* optional, called from the building thread */
   void *progress_user;
@@ -131,8 +132,8 @@ static inline double sl_phase_table_forward(const sl_phase_table *t, int n)
   return t->forward[n < 0 ? 0 : (n > t->max_order ? t->max_order : n)];
 }
 
-/* Smallest n whose Ams_n is isotropic within tol (max |4 pi Ams_n - 1| and 4 pi delta[n]
- * below tol); -1 if no n <= N is. */
+/* Smallest n whose Ams_n is isotropic within tol (max over the grid of |4 pi ams[n] - 1| below
+ * tol and Dirac weight delta[n] below tol); -1 if no n <= N is. */
 int sl_phase_table_isotropic_order(const sl_phase_table *t, double tol);
 
 /* The cache directory the request resolves to (no directory is created). */

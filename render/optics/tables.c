@@ -141,10 +141,11 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
   T->n_wavelengths = r->n_wavelengths;
   memcpy(T->wavelengths_nm, r->wavelengths_nm, sizeof(double) * (size_t)r->n_wavelengths);
   T->particles = r->particles;
-  if (r->use_cache && sl_optics_cache_dir(r, T->stats.cache_dir, (int)sizeof T->stats.cache_dir, err)) {
-    free(T);
-    return NULL;
-  }
+  /* A cache that cannot be located costs time, not correctness: build without it. */
+  sl_error dir_err = {0};
+  const int use_cache =
+      r->use_cache && sl_optics_cache_dir(r, T->stats.cache_dir, (int)sizeof T->stats.cache_dir, &dir_err) == SL_OK;
+  if (!use_cache) T->stats.cache_dir[0] = '\0';
 
   optics_grid g;
   if (optics_grid_init(&g, r->angle_step_deg, err)) {
@@ -173,7 +174,7 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
     const unsigned long long h = optics_fnv1a(key, strlen(key), 0xcbf29ce484222325ULL);
     snprintf(path, sizeof path, "%s/optics-%s-%016llx.bin", T->stats.cache_dir, sl_particle_name((sl_particle)p), h);
     double t0 = now_seconds();
-    if (r->use_cache) {
+    if (use_cache) {
       sl_error load_err = {0};
       const int loaded = optics_cache_load(path, key, tables, r->n_wavelengths, &load_err);
       if (loaded == SL_OK) {
@@ -189,7 +190,7 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
     T->stats.build_seconds += now_seconds() - t0;
     if (status == SL_OK) {
       T->stats.tables_built++;
-      if (r->use_cache) {
+      if (use_cache) {
         /* A cache that cannot be written costs time, not correctness: not an error. */
         sl_error store_err = {0};
         (void)optics_cache_store(path, key, tables, r->n_wavelengths, &store_err);
