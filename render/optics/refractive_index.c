@@ -47,17 +47,34 @@ void sl_water_index(double wavelength_nm, double *re, double *im)
 
 void sl_ice_index(double wavelength_nm, double *re, double *im)
 {
-  /* Cauchy form n = A + B / lambda^2 (lambda in um), A = 1.3002, B = 0.00320 um^2, chosen to
-   * follow the real index of ice Ih in Warren & Brandt 2008 (J. Geophys. Res. 113, D14220;
-   * data at www.atmos.washington.edu/ice_optical_constants) across 400-700 nm, where it falls
-   * from about 1.320 to 1.307 (1.3098 at the sodium D line). The coefficients were fitted to
-   * values recalled from that table, not read from the file in this session: treat them as
-   * good to about 1e-3 (see docs/OPTICS.md). Halo angles move by 0.1 degree per 0.001 in n.
-   * Imaginary part: Warren & Brandt 2008 give ~1e-9 to 1e-8 in the visible; we use 2e-9, which
-   * absorbs less than 1e-4 over a 1 mm path. */
-  const double l = wavelength_nm / 1000.0;
-  *re = 1.3002 + 0.00320 / (l * l);
-  *im = 2e-9;
+  /* Ice Ih, Warren & Brandt 2008 (J. Geophys. Res. 113, D14220), their compiled table
+   * (www.atmos.washington.edu/ice_optical_constants, as redistributed in CRREL-GOSRT's
+   * Materials/ice_Ri.csv), 0.39-0.73 um every 10 nm; linear in lambda for the real part,
+   * log-linear for the imaginary part, held constant outside. */
+  static const double m_re[35] = {1.3203, 1.3194, 1.3185, 1.3177, 1.3170, 1.3163, 1.3157, 1.3151, 1.3145,
+                                  1.3140, 1.3135, 1.3130, 1.3126, 1.3121, 1.3117, 1.3114, 1.3110, 1.3106,
+                                  1.3103, 1.3100, 1.3097, 1.3094, 1.3091, 1.3088, 1.3085, 1.3083, 1.3080,
+                                  1.3078, 1.3076, 1.3073, 1.3071, 1.3069, 1.3067, 1.3065, 1.3062};
+  static const double m_im[35] = {2.00e-11, 2.37e-11, 2.67e-11, 3.14e-11, 4.14e-11, 6.27e-11, 9.24e-11,
+                                  1.33e-10, 1.96e-10, 2.86e-10, 4.17e-10, 5.89e-10, 8.04e-10, 1.08e-9,
+                                  1.41e-9,  1.81e-9,  2.29e-9,  2.84e-9,  3.46e-9,  4.16e-9,  4.93e-9,
+                                  5.73e-9,  6.89e-9,  8.58e-9,  1.04e-8,  1.22e-8,  1.43e-8,  1.66e-8,
+                                  1.89e-8,  2.09e-8,  2.40e-8,  2.90e-8,  3.44e-8,  4.03e-8,  4.30e-8};
+  const double u = (wavelength_nm - 390.0) / 10.0;
+  if (u <= 0.0) {
+    *re = m_re[0];
+    *im = m_im[0];
+    return;
+  }
+  if (u >= 34.0) {
+    *re = m_re[34];
+    *im = m_im[34];
+    return;
+  }
+  const int i = (int)u;
+  const double w = u - i;
+  *re = (1.0 - w) * m_re[i] + w * m_re[i + 1];
+  *im = exp((1.0 - w) * log(m_im[i]) + w * log(m_im[i + 1]));
 }
 
 double sl_air_cross_section(double wavelength_nm)

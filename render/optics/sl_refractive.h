@@ -14,7 +14,7 @@ double sl_water_index_im(double wavelength_nm);
 /* Cloud and rain water at 10 C (283.15 K, 999.70 kg/m3). */
 void sl_water_index(double wavelength_nm, double *re, double *im);
 
-/* Ice Ih, real part (see refractive_index.c for the source and its uncertainty); im ~ 1e-9. */
+/* Ice Ih, Warren & Brandt 2008 (tabulated 390-730 nm). */
 void sl_ice_index(double wavelength_nm, double *re, double *im);
 
 /* Rayleigh scattering cross-section of one air molecule (m^2), Bodhaine et al. 1999, eq. 29. */
