@@ -66,6 +66,42 @@ int main(void)
     CHECK_CLOSE(t->forward[1], F, 1e-4, 0.0);
   }
 
+  /* Eq. 20 checked by direct quadrature, independently of the Legendre route: for rain (with
+   * its forward Dirac f) Ams_2 = f^2 delta + 2 f Pt + Pt (*) Pt, where the spherical convolution
+   * (Pt (*) Pt)(theta) = int Pt(theta') Pt(cos gamma) dOmega', cos gamma = cos theta cos theta' +
+   * sin theta sin theta' cos phi, is summed with 3 Gauss points per grid cell in theta' and
+   * 720 steps in phi. */
+  {
+    const sl_phase_table *t = sl_optics_table(T, SL_RAIN, 1);
+    const double f = t->truncated_fraction;
+    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+    static const double gw[3] = {0.5555555555555556, 0.8888888888888888, 0.5555555555555556};
+    const double angles[4] = {20.0, 60.0, 100.0, 150.0};
+    double worst = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      const double th = angles[a] * SL_PI / 180.0, ct = cos(th), st = sin(th);
+      double conv = 0.0;
+      for (int j = 0; j + 1 < t->n_angles; ++j) {
+        const double lo = j * t->step_rad, hi = (j + 1) * t->step_rad;
+        for (int q = 0; q < 3; ++q) {
+          const double tp = 0.5 * (lo + hi) + 0.5 * (hi - lo) * gx[q];
+          const double w = 0.5 * (hi - lo) * gw[q] * sin(tp) * sl_phase_table_ams(t, 1, cos(tp));
+          double inner = 0.0;
+          for (int k = 0; k < 720; ++k) {
+            const double phi = (k + 0.5) * 2.0 * SL_PI / 720.0;
+            inner += sl_phase_table_ams(t, 1, ct * cos(tp) + st * sin(tp) * cos(phi));
+          }
+          conv += w * inner * 2.0 * SL_PI / 720.0;
+        }
+      }
+      const double want = 2.0 * f * sl_phase_table_ams(t, 1, ct) + conv;
+      const double got = sl_phase_table_ams(t, 2, ct);
+      printf("rain Ams_2(%3.0f deg): Legendre %.6g, direct quadrature %.6g\n", angles[a], got, want);
+      worst = fmax(worst, fabs(got - want) / want);
+    }
+    CHECK_MSG(worst < 1e-3, "Ams_2 equals P (*) P by direct quadrature within 1e-3");
+  }
+
   /* Rain: primary bow maximum in 137..139.8 degrees, secondary in 126..130.5, Alexander's dark
    * band between them below both; red's primary at a smaller scattering angle than blue's and
    * the order reversed for the secondary. Wavelength 0 is red (650), 2 is blue (440). */
