@@ -150,7 +150,8 @@ int cmd_phase(int argc, char **argv)
                 "multiple-scattering distribution Ams_N (Riley et al. 2004, eq. 20) at the given scattering\n"
                 "angles, with the forward fraction F_N (eq. 23) and the extinction cross-section. The forward\n"
                 "diffraction peak narrower than the grid is reported apart as \"forward_delta\", the weight of\n"
-                "a Dirac at 0 degrees (docs/OPTICS.md).");
+                "a Dirac at 0 degrees (docs/OPTICS.md). JSON keys: angles, phase (order 1) or ams (other\n"
+                "orders), forward_delta, forward_fraction, sigma_ext (m^2), albedo, asymmetry, max_order.");
   o.option("particle", "NAME", "air, cloud, rain, ice or snow");
   o.option("wavelength", "NM", "wavelength in nanometres", "515");
   o.option("order", "N", "scattering order n of Ams_n (1 = the phase function)", "1");
