@@ -32,7 +32,7 @@
 #include "commands.h"
 #include "sl_mie.h"
 #include "sl_optics.h"
-#include "sl_refractive.h"
+#include "sl_air.h"
 
 namespace {
 

@@ -104,6 +104,20 @@ typedef struct sl_optics_stats {
 } sl_optics_stats;
 void sl_optics_get_stats(const sl_optics_tables *tables, sl_optics_stats *stats);
 
+/* Smooth part of Ams_n at the scattering angle theta (radians, 0..pi), linear in theta
+ * between grid points: for callers that already have the angle (no acos). */
+static inline double sl_phase_table_ams_theta(const sl_phase_table *t, int n, double theta)
+{
+  if (n < 0) n = 0;
+  if (n > t->max_order) n = t->max_order;
+  const double u = (theta > 0.0 ? theta : 0.0) * t->inv_step_rad;
+  int i = (int)u;
+  if (i > t->n_angles - 2) i = t->n_angles - 2;
+  const double w = u - i > 1.0 ? 1.0 : u - i;
+  const float *row = t->ams + (size_t)n * (size_t)t->n_angles;
+  return row[i] + w * (row[i + 1] - row[i]);
+}
+
 /* Smooth part of Ams_n at cos_theta, linear in theta between grid points. */
 static inline double sl_phase_table_ams(const sl_phase_table *t, int n, double cos_theta)
 {

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 #include "sl_legendre.h"
-#include "sl_refractive.h"
+#include "sl_air.h"
 #include "sl_testing.h"
 
 #define NODES 400

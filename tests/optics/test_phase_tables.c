@@ -34,6 +34,11 @@ int main(void)
       CHECK(t->albedo > 0.999 && t->albedo <= 1.0);
     }
   printf("worst |integral - 1| over all tables and orders: %.3g\n", worst);
+  {
+    const sl_phase_table *t = sl_optics_table(T, SL_RAIN, 0);
+    for (double th = 0.0; th <= SL_PI; th += 0.0123)
+      CHECK_CLOSE(sl_phase_table_ams_theta(t, 3, th), sl_phase_table_ams(t, 3, cos(th)), 1e-9, 1e-12);
+  }
   CHECK_MSG(worst < 1e-6, "every Ams_n integrates to 1 within 1e-6");
 
   /* Snow is HG(0.75): Ams_n must be HG's moments to the n-th power, and F_1 its closed form. */

@@ -3,6 +3,7 @@
 
 #include "sl_cie.h"
 #include "sl_optics.h"
+#include "sl_air.h"
 #include "sl_refractive.h"
 #include "sl_testing.h"
 
