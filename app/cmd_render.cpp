@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "composite_pass.h"
 #include "sl_image_io.h"
 #include "sl_renderer.h"
+#include "sl_sky.h"
 #include "sl_storm.h"
 #include "sl_tempfile.h"
 
@@ -27,6 +29,12 @@ bool ends_with(const std::string &s, const std::string &suffix)
 {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
+
+}  // namespace
+
+bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
+
+namespace {
 
 void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
 
@@ -80,8 +88,11 @@ int sl_cmd_render(int argc, char **argv)
   o.option("height", "PX", "image height", "512");
   o.option("slices", "N", "slicing planes across the volume (0 = enough to resolve the grid)", "0");
   o.option("light-resolution", "N", "light-buffer texels along its longer side (0 = automatic)", "0");
-  o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north", "240");
-  o.option("sun-elevation", "DEG", "sun elevation above the horizon", "35");
+  o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north (with --sun-elevation; default: from the date)");
+  o.option("sun-elevation", "DEG", "sun elevation above the horizon (with --sun-azimuth)");
+  o.option("date", "ISO8601", "UTC date-time that places the sun over the grid's centre (default: the file's time)");
+  o.option("earth", "flat|round", "air mass of the sunlight: the paper's flat earth or a spherical one", "round");
+  o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
   o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
   o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");
   o.option("view-azimuth", "DEG", "default camera: compass direction from the cloud to the camera", "200");
@@ -89,7 +100,7 @@ int sl_cmd_render(int argc, char **argv)
   o.option("fov", "DEG", "vertical field of view", "40");
   o.option("threads", "N", "OpenMP threads (0 = all cores)", "0");
   o.option("exposure", "E", "PNG tone mapping: 1 - exp(-E L)", "12");
-  o.option("sky", "R,G,B", "constant sky radiance behind the volume", "0.035,0.055,0.10");
+  o.option("sky", "R,G,B", "with --no-atmosphere: the constant sky radiance", "0.035,0.055,0.10");
   o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
   o.flag("float", "write 32-bit float EXR channels instead of half");
   o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
@@ -116,18 +127,30 @@ int sl_cmd_render(int argc, char **argv)
     if (sl_temp_name(f.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
   }
   long width, height, slices, light_res, threads, time_index;
-  double sun_az, sun_el, fov, exposure, view_az, view_el, dz;
+  double sun_az = 0, sun_el = 0, fov, exposure, view_az, view_el, dz;
   std::vector<double> sky;
   if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
       !o.integer("slices", &slices, 0, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
       !o.integer("threads", &threads, 0, 1024) || !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) ||
-      !o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el) || !o.number("fov", &fov) ||
+      !o.number("fov", &fov) ||
       !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
       !o.number("view-elevation", &view_el) || !o.number("dz", &dz) || !o.list("sky", &sky))
     return sl::fail(cmd, o.error(), 2);
   if (sky.size() != 3) return sl::fail(cmd, "--sky needs three numbers R,G,B", 2);
   if (!(fov > 0 && fov < 170)) return sl::fail(cmd, "--fov must be in (0, 170) degrees", 2);
-  if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
+  if (o.has("sun-azimuth") != o.has("sun-elevation"))
+    return sl::fail(cmd, "give both --sun-azimuth and --sun-elevation, or neither", 2);
+  if (o.has("sun-azimuth") && o.has("date")) return sl::fail(cmd, "give --date or the sun's angles, not both", 2);
+  if (o.has("sun-azimuth")) {
+    if (!o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el)) return sl::fail(cmd, o.error(), 2);
+    if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
+  }
+  if (o.str("earth") != "flat" && o.str("earth") != "round") return sl::fail(cmd, "--earth must be flat or round", 2);
+  sl_utc date{};
+  if (o.has("date")) {
+    std::string why;
+    if (!sl_parse_iso8601_utc(o.str("date"), &date, &why)) return sl::fail(cmd, "--date: " + why, 2);
+  }
   if (threads > 0) omp_set_num_threads((int)threads);
   const bool quiet = o.has("quiet");
 
@@ -137,9 +160,51 @@ int sl_cmd_render(int argc, char **argv)
   if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail(cmd, err.message);
   const double t_load = sl::now_seconds() - t0;
 
+  // The sun: given angles, or the solar position for --date or the file's own time.
+  std::string sun_note;
+  if (!o.has("sun-azimuth")) {
+    if (!o.has("date")) {
+      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+      std::string why;
+      if (sl_storm_read_info(path.c_str(), info.get(), &err) == SL_OK && info->has_times) {
+        std::string t = info->times[time_index];
+        for (char &ch : t)
+          if (ch == '_') ch = 'T';
+        if (!sl_parse_iso8601_utc(t + "Z", &date, &why)) {
+          sl_storm_frame_free(&frame);
+          return sl::fail(cmd, path + ": time '" + info->times[time_index] + "' is not a date-time: " + why);
+        }
+      } else {
+        sl_storm_frame_free(&frame);
+        return sl::fail(cmd, path + ": the file has no times: give --date or --sun-azimuth/--sun-elevation", 2);
+      }
+    }
+    sl_solar_position pos;
+    if (sl_solar_position_compute(&date, frame.center_lat, frame.center_lon, nullptr, &pos, &err)) {
+      sl_storm_frame_free(&frame);
+      return sl::fail(cmd, err.message);
+    }
+    sun_az = pos.azimuth_deg;
+    sun_el = pos.elevation_deg;
+    char note[160];
+    std::snprintf(note, sizeof note, "sun at %04d-%02d-%02d %02d:%02d UTC over %.2f N %.2f E: elevation %.2f, azimuth %.2f",
+                  date.year, date.month, date.day, date.hour, date.minute, frame.center_lat, frame.center_lon, sun_el,
+                  sun_az);
+    sun_note = note;
+  }
+  sl_atmosphere atmosphere;
+  const bool with_air = !o.has("no-atmosphere");
+  if (with_air && sl_atmosphere_init(&atmosphere, sl_sky_rgb_wavelengths_nm, SL_SKY_RGB_COUNT,
+                                     o.str("earth") == "flat" ? SL_EARTH_FLAT : SL_EARTH_ROUND,
+                                     SL_RAYLEIGH_BODHAINE1999, &err)) {
+    sl_storm_frame_free(&frame);
+    return sl::fail(cmd, err.message);
+  }
+
   sl_scene scene{};
   scene.volume = &frame.volume;
-  sl_sun_vector(sun_az, sun_el, scene.sun_direction);
+  scene.atmosphere = with_air ? &atmosphere : nullptr;
+  sl_sun_direction(sun_el, sun_az, scene.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) {
     scene.sun_irradiance[c] = 1.0;
     scene.sky_radiance[c] = sky[c];
@@ -204,6 +269,8 @@ int sl_cmd_render(int argc, char **argv)
     }
   }
   t_write = sl::now_seconds() - t0;
+  if (!quiet && !sun_note.empty()) std::printf("%s\n", sun_note.c_str());
+  if (!quiet && stats.night) std::printf("night: the sun is below the horizon; this model gives no sunlight and no sky\n");
   if (!quiet)
     std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "
                 "pass %.3f s, composite %.3f s, write %.3f s\n",

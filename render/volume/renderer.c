@@ -15,8 +15,46 @@ struct sl_renderer {
   float *beta;          /* total extinction, m^-1 */
   sl_grid_view beta_view;
   double lo[3], hi[3];  /* the volume's box */
+  double content_center[3]; /* centre of the box around non-empty samples: the midplane's anchor */
   int any_extinction;
 };
+
+/* Sunlight reaching height z through the air (Riley eq. 12 with the view's air mass), tabulated
+ * over the box's heights once per frame so the eye pass only interpolates. */
+#define SUN_TABLE_SIZE 257
+typedef struct sun_table {
+  double z0, dz;
+  double rgb[SUN_TABLE_SIZE][SL_CHANNELS];
+} sun_table;
+
+static void sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi)
+{
+  t->z0 = zlo;
+  t->dz = (zhi - zlo) / (SUN_TABLE_SIZE - 1);
+  for (int i = 0; i < SUN_TABLE_SIZE; ++i)
+    for (int c = 0; c < SL_CHANNELS; ++c) {
+      if (!sc->atmosphere) {
+        t->rgb[i][c] = sc->sun_irradiance[c];
+        continue;
+      }
+      const sl_atmosphere *atm = sc->atmosphere;
+      const double z = zlo + i * t->dz;
+      t->rgb[i][c] = view->night ? 0.0
+                                 : atm->sun_irradiance[c] *
+                                       exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[c], 1.0 / atm->scale_height,
+                                                                     z, view->airmass));
+    }
+}
+
+static void sun_at_height(const sun_table *t, double z, double out[SL_CHANNELS])
+{
+  double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
+  u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
+  int i = (int)u;
+  if (i > SUN_TABLE_SIZE - 2) i = SUN_TABLE_SIZE - 2;
+  const double f = u - i;
+  for (int c = 0; c < SL_CHANNELS; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
+}
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static void cross3(const double a[3], const double b[3], double out[3])
@@ -119,6 +157,15 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     r->any_extinction = r->beta[i] > 0.0f;
   sl_grid_view_init(&r->beta_view, r->beta, &r->shape);
   sl_volume_bounds(&r->shape, r->lo, r->hi);
+  if (scene->atmosphere && scene->atmosphere->count != SL_CHANNELS) {
+    sl_fail(err, SL_ERR_ARG, "renderer: the atmosphere has %d wavelengths, the renderer %d",
+            scene->atmosphere->count, SL_CHANNELS);
+    sl_renderer_destroy(r);
+    return NULL;
+  }
+  double clo[3], chi[3];
+  sl_renderer_content_bounds(r, clo, chi);
+  for (int a = 0; a < 3; ++a) r->content_center[a] = 0.5 * (clo[a] + chi[a]);
   return r;
 }
 
@@ -228,22 +275,44 @@ static double light_lookup(const light_buffer *L, const double x[3])
   return r0 + v * (r1 - r0);
 }
 
+/* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
+static int camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
+{
+  for (int a = 0; a < 3; ++a) fwd[a] = cam->target[a] - cam->position[a];
+  if (normalize3(fwd)) return 1;
+  cross3(fwd, cam->up, right);
+  if (normalize3(right)) return 1;
+  cross3(right, fwd, up);
+  return 0;
+}
+
+/* The pinhole camera: pixel centres on an image plane at distance 1 along fwd. */
+static void pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half,
+                      double aspect, int width, int height, int px, int py, double d[3])
+{
+  const double sx = (2.0 * (px + 0.5) / width - 1.0) * tan_half * aspect;
+  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;
+  for (int a = 0; a < 3; ++a) d[a] = fwd[a] + sx * right[a] + sy * up[a];
+  normalize3(d);
+}
+
 int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats, sl_error *err)
 {
   if (!cam || cam->width != img->width || cam->height != img->height)
     return sl_fail(err, SL_ERR_ARG, "render: the image is not the camera's size");
   if (!(cam->fov_deg > 0.0 && cam->fov_deg < 170.0))
     return sl_fail(err, SL_ERR_ARG, "render: field of view %g degrees is out of range (0, 170)", cam->fov_deg);
-  double fwd[3] = {cam->target[0] - cam->position[0], cam->target[1] - cam->position[1],
-                   cam->target[2] - cam->position[2]};
-  if (normalize3(fwd)) return sl_fail(err, SL_ERR_ARG, "render: camera position and target coincide");
-  double right[3], up[3];
-  cross3(fwd, cam->up, right);
-  if (normalize3(right)) return sl_fail(err, SL_ERR_ARG, "render: camera up vector is parallel to the view");
-  cross3(right, fwd, up);
+  double fwd[3], right[3], up[3];
+  if (camera_basis(cam, fwd, right, up))
+    return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
 
   const sl_scene *sc = &r->scene;
   const double *sun = sc->sun_direction;
+  sl_sky_view view = {0};
+  if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sun, err)) return err->code;
+  sun_table *suntab = malloc(sizeof *suntab);
+  if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
+  sun_table_init(suntab, sc, &view, r->lo[2], r->hi[2]);
   const double prop[3] = {-sun[0], -sun[1], -sun[2]};
   sl_slicing slicing;
   sl_choose_slicing(fwd, sun, &slicing);
@@ -313,7 +382,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   int *pk = malloc(np * 2 * sizeof(int));
   if (!L.transparency || !L.u_in || !L.u_out || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk) {
     free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
-    free(acc), free(ray), free(pk);
+    free(acc), free(ray), free(pk), free(suntab);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
   }
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
@@ -344,12 +413,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     }
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
-      const int px = (int)(q % img->width), py = (int)(q / img->width);
-      const double sx = (2.0 * (px + 0.5) / img->width - 1.0) * tan_half * aspect;
-      const double sy = (1.0 - 2.0 * (py + 0.5) / img->height) * tan_half;
-      double d[3] = {fwd[0] + sx * right[0] + sy * up[0], fwd[1] + sx * right[1] + sy * up[1],
-                     fwd[2] + sx * right[2] + sy * up[2]};
-      normalize3(d);
+      double d[3];
+      pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+                (int)(q / img->width), d);
       float *a = acc + q * (SL_CHANNELS + 2);
       a[SL_CHANNELS] = 1.0f; /* transparency toward the eye */
       double *rq = ray + q * 6;
@@ -404,13 +470,15 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double depth = mid * dot3(rq, fwd);
         float *a = acc + q * (SL_CHANNELS + 2);
         const double source = sc->albedo * phase * gathered;
+        double sunlight[SL_CHANNELS];
+        sun_at_height(suntab, x[2], sunlight);
         if (!back_to_front) {
           const double w = a[SL_CHANNELS];
-          for (int c = 0; c < SL_CHANNELS; ++c) a[c] += (float)(w * source * sc->sun_irradiance[c]);
+          for (int c = 0; c < SL_CHANNELS; ++c) a[c] += (float)(w * source * sunlight[c]);
           a[SL_CHANNELS + 1] += (float)(w * opacity * depth);
         } else {
           for (int c = 0; c < SL_CHANNELS; ++c)
-            a[c] = (float)(a[c] * (1.0 - opacity) + source * sc->sun_irradiance[c]);
+            a[c] = (float)(a[c] * (1.0 - opacity) + source * sunlight[c]);
           a[SL_CHANNELS + 1] = (float)(a[SL_CHANNELS + 1] * (1.0 - opacity) + opacity * depth);
         }
         a[SL_CHANNELS] *= (float)exp(-beta * len);
@@ -443,12 +511,24 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       }
     }
 
-    /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. */
+    /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. With an
+     * atmosphere the air in front of the volume's midplane (sec. 5) attenuates the volume and adds
+     * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
+     * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame. */
+    const double h_center = dot3(h, r->content_center);
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
       const float *a = acc + q * (SL_CHANNELS + 2);
       const float transparency = a[SL_CHANNELS];
-      for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = a[c];
+      double front[SL_CHANNELS] = {0}, front_t[SL_CHANNELS] = {1, 1, 1};
+      if (sc->atmosphere && transparency < 1.0f) {
+        const double *rq = ray + q * 6;
+        double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
+        t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
+        sl_sky_view_segment(&view, rq, 0.0, t_mid, front, front_t);
+      }
+      for (int c = 0; c < SL_CHANNELS; ++c)
+        img->rgba[4 * q + c] = (float)(front_t[c] * a[c] + (1.0 - transparency) * front[c]);
       img->rgba[4 * q + 3] = 1.0f - transparency;
       img->transparency[q] = transparency;
       const double coverage = 1.0 - transparency;
@@ -463,7 +543,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     stats->light_height = L.h;
     stats->eye_samples = eye_samples;
     stats->light_samples = light_samples;
+    stats->night = view.night;
   }
+  free(suntab);
   free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
   free(acc), free(ray), free(pk);
   return SL_OK;
@@ -473,11 +555,33 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
 {
   if (!cam || cam->width != img->width || cam->height != img->height)
     return sl_fail(err, SL_ERR_ARG, "background: the image is not the camera's size");
+  const sl_scene *sc = &r->scene;
+  sl_sky_view view;
+  if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err))
+    return err->code;
+  double fwd[3], right[3], up[3];
+  camera_basis(cam, fwd, right, up);
+  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
+  const double aspect = (double)img->width / img->height;
   const size_t n = (size_t)img->width * img->height;
+#pragma omp parallel for schedule(static)
   for (size_t i = 0; i < n; ++i) {
-    for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)r->scene.sky_radiance[c];
+    double L[SL_CHANNELS];
+    if (sc->atmosphere) {
+      double d[3];
+      pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
+                (int)(i / img->width), d);
+      double sun_disk[SL_CHANNELS];
+      sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
+      if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))
+        for (int c = 0; c < SL_CHANNELS; ++c) L[c] += sun_disk[c];
+    } else {
+      for (int c = 0; c < SL_CHANNELS; ++c) L[c] = sc->sky_radiance[c];
+    }
+    for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)L[c];
     img->rgba[4 * i + 3] = 1.0f;
     img->depth[i] = INFINITY;
+    img->transparency[i] = 0.0f;
   }
   return SL_OK;
 }

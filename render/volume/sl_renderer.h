@@ -6,6 +6,7 @@
 #define SL_RENDERER_H
 
 #include "sl_image.h"
+#include "sl_sky.h"
 #include "sl_status.h"
 #include "sl_volume.h"
 
@@ -24,8 +25,13 @@ typedef enum sl_lighting {
 typedef struct sl_scene {
   const sl_volume *volume;          /* not owned; must outlive the renderer */
   double sun_direction[3];          /* unit vector toward the sun, world ENU */
-  double sun_irradiance[SL_CHANNELS]; /* collimated irradiance reaching the volume */
-  double sky_radiance[SL_CHANNELS]; /* constant background sky (replaced by render/sky later) */
+  /* The atmosphere (render/sky) for the paper's three wavelengths: sunlight attenuated down to
+   * each sample's height (eq. 12), aerial perspective in front of the volume's midplane and sky
+   * behind it (eqs. 14-15, sec. 5), the sun's disk (sec. 4.2.4). Not owned. NULL: no air, the
+   * sun_irradiance below reaches the volume unattenuated and sky_radiance is a constant sky. */
+  const sl_atmosphere *atmosphere;
+  double sun_irradiance[SL_CHANNELS]; /* without an atmosphere: collimated irradiance at the volume */
+  double sky_radiance[SL_CHANNELS]; /* without an atmosphere: constant background sky */
   double albedo;                    /* single-scattering albedo of every hydrometeor (paper: 1) */
   int slices;                       /* slicing planes across the volume; 0: as many as resolve the grid */
   int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
@@ -52,6 +58,7 @@ typedef struct sl_slicing {
 } sl_slicing;
 
 typedef struct sl_render_stats {
+  int night;                         /* the sun is below the horizon: no sun, no sky from the model */
   double light_seconds, eye_seconds; /* summed over the frame's slices */
   int slices, light_width, light_height;
   long eye_samples, light_samples;   /* samples that touched the volume's box */
@@ -65,8 +72,10 @@ void sl_renderer_destroy(sl_renderer *r);
 int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, sl_render_stats *stats,
                        sl_error *err);
 
-/* The background behind and around the volume for this camera (the scene's constant sky),
- * opaque, depth +inf. */
+/* The background behind and around the volume for this camera, opaque, depth +inf: the whole
+ * ray's sky plus the sun's disk (or the constant sky without an atmosphere). The volume layer
+ * already carries the aerial perspective in front of the volume, so that
+ * frame = volume + transparency * background (sl_image_over). */
 int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_image *img, sl_error *err);
 
 /* The box around the samples with non-zero extinction (the whole box when all are empty). */

@@ -18,6 +18,8 @@ check "synth is seeded" bash -c "'$sl' synth cirrus --nx 8 --ny 8 --nz 6 --seed 
 check "different seeds differ" bash -c "'$sl' synth cirrus --nx 8 --ny 8 --nz 6 --seed 8 --out '$work/c.nc' && ! cmp -s <(ncdump -v QICE '$work/a.nc' | tail -n +2) <(ncdump -v QICE '$work/c.nc' | tail -n +2)"
 check "info --json is one object" bash -c "'$sl' info '$datasets/cumulonimbus.nc' --json | grep -qE '^\{.*\"west_east\":48.*\}$'"
 check "render then compare to itself" bash -c "'$sl' render '$datasets/cirrus.nc' --out '$work/f.exr' --width 64 --height 48 --slices 64 --cpu-composite --quiet && '$sl' compare '$work/f.exr' '$work/f.exr' --json | grep -q '\"pass\":true'"
-check "compare fails above threshold" bash -c "'$sl' render '$datasets/cirrus.nc' --out '$work/g.exr' --width 64 --height 48 --slices 64 --cpu-composite --quiet --sun-elevation 10 && ! '$sl' compare '$work/f.exr' '$work/g.exr' --threshold 0.001"
+check "compare fails above threshold" bash -c "'$sl' render '$datasets/cirrus.nc' --out '$work/g.exr' --width 64 --height 48 --slices 64 --cpu-composite --quiet --sun-elevation 10 --sun-azimuth 200 && ! '$sl' compare '$work/f.exr' '$work/g.exr' --threshold 0.001"
+check "the sun from --date over the grid" bash -c "'$sl' render '$datasets/cirrus.nc' --out '$work/d.exr' --width 32 --height 24 --slices 32 --cpu-composite --date 2024-04-10T10:00:00Z | grep -q 'sun at 2024-04-10 10:00 UTC'"
+check "night is reported, not NaN" bash -c "'$sl' render '$datasets/cirrus.nc' --out '$work/n.exr' --width 32 --height 24 --slices 32 --cpu-composite --date 2024-04-10T23:00:00Z | grep -q '^night'"
 echo "basics: $passes passed, $failures failed"
 [ $failures -eq 0 ]
