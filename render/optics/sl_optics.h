@@ -33,7 +33,7 @@ extern "C" {
 #define SL_OPTICS_MAX_WAVELENGTHS 64
 #define SL_OPTICS_MAX_ORDER 400
 /* Bumped whenever a change alters table contents: cached tables of another version are rebuilt. */
-#define SL_OPTICS_TABLE_VERSION 1
+#define SL_OPTICS_TABLE_VERSION 2 /* 2: Warren & Brandt ice index table */
 
 /* The paper's three wavelengths (red, green, blue): 650, 515, 440 nm. */
 extern const double SL_WAVELENGTHS_RGB[3];
