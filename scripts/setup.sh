@@ -24,5 +24,5 @@ mkdir -p out
 sl=build/release/app/stormlight
 xvfb-run -a "$sl" render datasets/cumulonimbus.nc --out out/cumulonimbus.exr,out/cumulonimbus.png
 xvfb-run -a "$sl" render datasets/wrf_katrina2005_d02_mercator_wsm3_4t.nc \
-  --out out/katrina.exr,out/katrina.png --view-elevation 25 --sun-elevation 50
+  --out out/katrina.exr,out/katrina.png --time 2 --view-elevation 25 --fov 30
 echo "done: out/cumulonimbus.png, out/katrina.png (and .exr); the executable is $sl"

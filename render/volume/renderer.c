@@ -89,13 +89,20 @@ int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err)
   return SL_OK;
 }
 
-int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth)
+int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double view_dir[3],
+                             const double light_dir[3], double depth)
 {
-  /* Consecutive planes s and s + ds are ds / |h_a| apart along axis a: one grid spacing per slab
-   * along every axis needs ds <= min_a spacing_a / |h_a|. */
+  /* A ray r crosses consecutive planes ds / |h.r| apart, a step of ds |r_a| / |h.r| along axis a:
+   * one sample per grid cell along every axis, for the eye's central ray and for the light,
+   * needs ds <= spacing_a |h.r| / |r_a|. */
   double ds = INFINITY;
-  for (int a = 0; a < 3; ++a)
-    if (fabs(h[a]) > 1e-12) ds = fmin(ds, v->spacing[a] / fabs(h[a]));
+  const double *rays[2] = {view_dir, light_dir};
+  for (int k = 0; k < 2; ++k) {
+    const double hr = fabs(dot3(h, rays[k]));
+    if (hr < 1e-6) continue;
+    for (int a = 0; a < 3; ++a)
+      if (fabs(rays[k][a]) > 1e-12) ds = fmin(ds, v->spacing[a] * hr / fabs(rays[k][a]));
+  }
   const double n = ceil(depth / ds);
   return n < 256 ? 256 : n > 4096 ? 4096 : (int)n;
 }
@@ -328,7 +335,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     if (s > smax) smax = s;
   }
   int nslices = sc->slices;
-  if (nslices == 0) nslices = sl_slices_resolving_grid(&r->shape, h, smax - smin);
+  if (nslices == 0) nslices = sl_slices_resolving_grid(&r->shape, h, fwd, prop, smax - smin);
   const double ds = (smax - smin) / nslices;
   const double hp = dot3(h, prop); /* > 0 by construction */
 
@@ -361,6 +368,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         if (foreshortening > 0.05) texel = fmin(texel, r->shape.spacing[a] * foreshortening);
       }
       res = (int)ceil(extent / texel);
+      /* Shadows finer than twice the image's resolution cannot be seen. */
+      const int image_limit = 2 * (img->width > img->height ? img->width : img->height);
+      if (res > image_limit) res = image_limit;
       res = res < 64 ? 64 : res > 2048 ? 2048 : res;
     }
     L.texel = extent / res;

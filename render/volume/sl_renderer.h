@@ -93,10 +93,12 @@ void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
  * compositing back to front. Never degenerate: |±v + p| >= sqrt(2). */
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out);
 
-/* The number of slices whose spacing along h resolves one grid cell along every axis (the data's
- * own resolution), for a box `depth` metres deep along h; at least 256 (the paper's count, which
- * keeps slicing bands on optically thick surfaces fine) and at most 4096. */
-int sl_slices_resolving_grid(const sl_volume *v, const double h[3], double depth);
+/* The number of slices whose spacing gives the eye's central ray (view_dir) and the sunlight
+ * (light_dir, the propagation direction) one sample per grid cell along every axis, for a box
+ * `depth` metres deep along h: the data's own resolution. At least 256 (the paper's count,
+ * which keeps slicing bands on optically thick surfaces fine) and at most 4096. */
+int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double view_dir[3],
+                             const double light_dir[3], double depth);
 
 /* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample,
  * Riley et al. 2004, eqs. 2-3: beta_ex = sum_i eta_i sigma_ex,i. */
