@@ -1,0 +1,356 @@
+/* The 2D PSF and the depth-dependent FFT convolution (Narasimhan et al., sections 7.2-7.3). */
+#include "sl_glow.h"
+
+#include <fftw3.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sl_legendre.h"
+
+static double now_s(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+double sl_glow_focal_px(int height, double fov_y_rad) { return 0.5 * height / tan(0.5 * fov_y_rad); }
+
+void sl_glow_kernel_free(sl_glow_kernel *k)
+{
+  free(k->w);
+  k->w = NULL;
+}
+
+/* Solid angle of a unit pixel at r pixels from the principal point: dA cos / d^2 = f / d^3. */
+static double pixel_solid_angle(double f, double r2) { return f / ((f * f + r2) * sqrt(f * f + r2)); }
+
+int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, double focal_px, int rx, int ry,
+                         sl_glow_norm norm, double tolerance, sl_error *err)
+{
+  k->w = NULL;
+  if (rx < 0 || ry < 0 || (double)(2 * rx + 1) * (2 * ry + 1) > 1e9)
+    return sl_fail(err, SL_ERR_ARG, "glow: kernel size %d x %d is out of range", 2 * rx + 1, 2 * ry + 1);
+  if (!(focal_px > 0.0) || !isfinite(focal_px))
+    return sl_fail(err, SL_ERR_ARG, "glow: focal length must be > 0 pixels (got %g)", focal_px);
+  const double r_max = sqrt((double)rx * rx + (double)ry * ry) + 2.0;
+  sl_apsf_profile prof;
+  if (sl_apsf_profile_build(&prof, m, T, tolerance, atan(r_max / focal_px), 4096, err)) return err->code;
+  const int nx = 2 * rx + 1, ny = 2 * ry + 1;
+  k->w = malloc(sizeof(double) * (size_t)nx * (size_t)ny);
+  if (!k->w) {
+    sl_apsf_profile_free(&prof);
+    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d kernel", nx, ny);
+  }
+  k->rx = rx;
+  k->ry = ry;
+  k->T = T;
+  k->blend = prof.blend;
+  k->direct = prof.direct;
+  k->terms = prof.terms;
+  /* One quadrant, mirrored: the PSF is rotationally symmetric (section 7.2). Pixels near the
+   * source average 8 x 8 sub-samples, where the profile changes within a pixel. */
+  const int sub = 8;
+  for (int dy = 0; dy <= ry; ++dy) {
+    for (int dx = 0; dx <= rx; ++dx) {
+      double v;
+      const double r2 = (double)dx * dx + (double)dy * dy;
+      if (r2 < 36.0) {
+        v = 0.0;
+        for (int j = 0; j < sub; ++j)
+          for (int i = 0; i < sub; ++i) {
+            const double x = dx + (i + 0.5) / sub - 0.5, y = dy + (j + 0.5) / sub - 0.5, s2 = x * x + y * y;
+            v += sl_apsf_profile_eval(&prof, atan(sqrt(s2) / focal_px)) * pixel_solid_angle(focal_px, s2);
+          }
+        v /= sub * sub;
+      } else {
+        v = sl_apsf_profile_eval(&prof, atan(sqrt(r2) / focal_px)) * pixel_solid_angle(focal_px, r2);
+      }
+      if (dx == 0 && dy == 0) v += prof.direct; /* eq. 30's Dirac: the unscattered beam */
+      k->w[(size_t)(ry + dy) * nx + rx + dx] = v;
+      k->w[(size_t)(ry + dy) * nx + rx - dx] = v;
+      k->w[(size_t)(ry - dy) * nx + rx + dx] = v;
+      k->w[(size_t)(ry - dy) * nx + rx - dx] = v;
+    }
+  }
+  sl_apsf_profile_free(&prof);
+  if (norm == SL_GLOW_PEAK) {
+    const double c = k->w[(size_t)ry * nx + rx];
+    if (!(c > 0.0)) {
+      sl_glow_kernel_free(k);
+      return sl_fail(err, SL_ERR_DATA, "glow: the PSF at T = %g has no positive centre value", T);
+    }
+    for (size_t i = 0; i < (size_t)nx * ny; ++i) k->w[i] /= c;
+  }
+  double sum = 0.0;
+  for (size_t i = 0; i < (size_t)nx * ny; ++i) sum += k->w[i];
+  k->sum = sum;
+  return SL_OK;
+}
+
+struct sl_glow_workspace {
+  int width, height, rx, ry, nx, ny;
+  double *re;                    /* ny x nx real plane */
+  fftw_complex *ks, *cs;         /* ny x (nx/2+1): kernel and channel spectra */
+  fftw_plan fwd, inv;
+};
+
+/* Smallest n >= lo whose only prime factors are 2, 3, 5, 7 (FFTW's fast sizes). */
+static int fft_size(int lo)
+{
+  for (int n = lo < 1 ? 1 : lo;; ++n) {
+    int r = n;
+    while (r % 2 == 0) r /= 2;
+    while (r % 3 == 0) r /= 3;
+    while (r % 5 == 0) r /= 5;
+    while (r % 7 == 0) r /= 7;
+    if (r == 1) return n;
+  }
+}
+
+void sl_glow_workspace_free(sl_glow_workspace *ws)
+{
+  if (!ws) return;
+  if (ws->fwd) fftw_destroy_plan(ws->fwd);
+  if (ws->inv) fftw_destroy_plan(ws->inv);
+  fftw_free(ws->re);
+  fftw_free(ws->ks);
+  fftw_free(ws->cs);
+  free(ws);
+}
+
+sl_glow_workspace *sl_glow_workspace_create(int width, int height, int rx, int ry, sl_error *err)
+{
+  if (width < 1 || height < 1 || width > 65536 || height > 65536) {
+    sl_fail(err, SL_ERR_ARG, "glow: frame size %d x %d is out of range", width, height);
+    return NULL;
+  }
+  sl_glow_workspace *ws = calloc(1, sizeof *ws);
+  if (!ws) {
+    sl_fail(err, SL_ERR_NOMEM, "glow: out of memory");
+    return NULL;
+  }
+  ws->width = width;
+  ws->height = height;
+  ws->rx = rx <= 0 || rx > width - 1 ? width - 1 : rx;
+  ws->ry = ry <= 0 || ry > height - 1 ? height - 1 : ry;
+  ws->nx = fft_size(width + ws->rx);
+  ws->ny = fft_size(height + ws->ry);
+  const size_t nreal = (size_t)ws->nx * ws->ny, ncplx = (size_t)ws->ny * (ws->nx / 2 + 1);
+  ws->re = fftw_malloc(sizeof(double) * nreal);
+  ws->ks = fftw_malloc(sizeof(fftw_complex) * ncplx);
+  ws->cs = fftw_malloc(sizeof(fftw_complex) * ncplx);
+  if (!ws->re || !ws->ks || !ws->cs) {
+    sl_glow_workspace_free(ws);
+    sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for %d x %d transforms", ws->nx, ws->ny);
+    return NULL;
+  }
+  ws->fwd = fftw_plan_dft_r2c_2d(ws->ny, ws->nx, ws->re, ws->cs, FFTW_ESTIMATE);
+  ws->inv = fftw_plan_dft_c2r_2d(ws->ny, ws->nx, ws->cs, ws->re, FFTW_ESTIMATE);
+  if (!ws->fwd || !ws->inv) {
+    sl_glow_workspace_free(ws);
+    sl_fail(err, SL_ERR_NOMEM, "glow: FFTW could not plan %d x %d transforms", ws->nx, ws->ny);
+    return NULL;
+  }
+  return ws;
+}
+
+void sl_glow_workspace_size(const sl_glow_workspace *ws, int *nx, int *ny)
+{
+  *nx = ws->nx;
+  *ny = ws->ny;
+}
+
+int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float *const *src, float *const *accum,
+                     int n_channels, sl_error *err)
+{
+  if (k->rx > ws->rx || k->ry > ws->ry)
+    return sl_fail(err, SL_ERR_ARG, "glow: kernel radius %d x %d exceeds the workspace's %d x %d", k->rx, k->ry, ws->rx,
+                   ws->ry);
+  const int nx = ws->nx, ny = ws->ny, W = ws->width, H = ws->height, kw = 2 * k->rx + 1;
+  const size_t nreal = (size_t)nx * ny, ncplx = (size_t)ny * (nx / 2 + 1);
+  int kernel_ready = 0;
+  for (int c = 0; c < n_channels; ++c) {
+    int any = 0;
+    for (size_t i = 0; i < (size_t)W * H && !any; ++i) any = src[c][i] != 0.0f;
+    if (!any) continue;
+    if (!kernel_ready) {
+      /* The kernel wrapped around the origin: offset d sits at index d mod n. The workspace's
+       * size (>= frame + radius) keeps wrapped kernel values off the frame. */
+      memset(ws->re, 0, sizeof(double) * nreal);
+      for (int dy = -k->ry; dy <= k->ry; ++dy) {
+        double *row = ws->re + (size_t)((dy + ny) % ny) * nx;
+        const double *kr = k->w + (size_t)(dy + k->ry) * kw + k->rx;
+        for (int dx = -k->rx; dx <= k->rx; ++dx) row[(dx + nx) % nx] = kr[dx];
+      }
+      fftw_execute_dft_r2c(ws->fwd, ws->re, ws->ks);
+      kernel_ready = 1;
+    }
+    memset(ws->re, 0, sizeof(double) * nreal);
+    for (int y = 0; y < H; ++y) {
+      const float *s = src[c] + (size_t)y * W;
+      double *row = ws->re + (size_t)y * nx;
+      for (int x = 0; x < W; ++x) row[x] = s[x];
+    }
+    fftw_execute_dft_r2c(ws->fwd, ws->re, ws->cs);
+    const double scale = 1.0 / (double)nreal; /* FFTW's transforms are unnormalised */
+    for (size_t i = 0; i < ncplx; ++i) {
+      const double a = ws->cs[i][0], b = ws->cs[i][1], kr = ws->ks[i][0], ki = ws->ks[i][1];
+      ws->cs[i][0] = (a * kr - b * ki) * scale;
+      ws->cs[i][1] = (a * ki + b * kr) * scale;
+    }
+    fftw_execute_dft_c2r(ws->inv, ws->cs, ws->re);
+    for (int y = 0; y < H; ++y) {
+      float *o = accum[c] + (size_t)y * W;
+      const double *row = ws->re + (size_t)y * nx;
+      for (int x = 0; x < W; ++x) o[x] += (float)row[x];
+    }
+  }
+  return SL_OK;
+}
+
+void sl_glow_params_defaults(sl_glow_params *p)
+{
+  memset(p, 0, sizeof *p);
+  p->medium.albedo = 1.0;
+  p->medium.q = 0.9;
+  p->fov_y_deg = 40.0;
+  p->threshold = 1.0;
+  p->n_layers = 8;
+  p->norm = SL_GLOW_FLUENCE;
+  p->attenuate = 1;
+  p->tolerance = 1e-4;
+}
+
+int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, sl_image *out,
+                  sl_glow_stats *stats, sl_error *err)
+{
+  const int W = in->width, H = in->height;
+  const size_t npx = (size_t)W * H;
+  if (W != ws->width || H != ws->height)
+    return sl_fail(err, SL_ERR_ARG, "glow: workspace is for %d x %d, the image is %d x %d", ws->width, ws->height, W, H);
+  if (out->width != W || out->height != H || !out->rgba)
+    return sl_fail(err, SL_ERR_ARG, "glow: output image must be allocated at %d x %d", W, H);
+  if (p->n_layers < 1 || p->n_layers > SL_GLOW_MAX_LAYERS)
+    return sl_fail(err, SL_ERR_ARG, "glow: layers must be 1..%d (got %d)", SL_GLOW_MAX_LAYERS, p->n_layers);
+  if (!(p->fov_y_deg > 0.0 && p->fov_y_deg < 170.0))
+    return sl_fail(err, SL_ERR_ARG, "glow: field of view must be in (0, 170) degrees (got %g)", p->fov_y_deg);
+  if (!(p->fixed_T > 0.0) && !(p->sigma > 0.0 && isfinite(p->sigma)))
+    return sl_fail(err, SL_ERR_ARG, "glow: give an extinction coefficient > 0 or a fixed optical thickness");
+  if (!(p->fixed_T > 0.0) && !in->depth)
+    return sl_fail(err, SL_ERR_ARG, "glow: the image has no depth and no fixed optical thickness was given");
+  if (!(p->threshold > 0.0)) return sl_fail(err, SL_ERR_ARG, "glow: threshold must be > 0 (got %g)", p->threshold);
+  const double f = sl_glow_focal_px(H, p->fov_y_deg * SL_PI / 180.0);
+
+  /* Optical distance per pixel: the view-axis depth times the secant of the pixel's angle
+   * from the axis is the distance to the camera. NAN marks pixels outside the medium. */
+  double *Tpx = malloc(sizeof(double) * npx);
+  float *planes = calloc(npx * 6, sizeof(float));
+  if (!Tpx || !planes) {
+    free(Tpx);
+    free(planes);
+    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d frame", W, H);
+  }
+  int rc = SL_OK, sources = 0;
+  double Tmin = INFINITY, Tmax = 0.0;
+  for (int y = 0; y < H && rc == SL_OK; ++y) {
+    for (int x = 0; x < W; ++x) {
+      const size_t i = (size_t)y * W + x;
+      const float *px = in->rgba + 4 * i;
+      if (!isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2])) {
+        rc = sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has a non-finite colour", x, y);
+        break;
+      }
+      double T;
+      if (p->fixed_T > 0.0) {
+        T = p->fixed_T;
+      } else {
+        const double z = in->depth[i];
+        if (isnan(z) || z < 0.0) {
+          rc = sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has depth %g (must be >= 0 or +inf)", x, y, z);
+          break;
+        }
+        const double u = (x + 0.5 - 0.5 * W) / f, v = (y + 0.5 - 0.5 * H) / f;
+        if (isinf(z)) T = p->sky_distance > 0.0 ? p->sigma * p->sky_distance : NAN;
+        else T = p->sigma * z * sqrt(1.0 + u * u + v * v);
+      }
+      Tpx[i] = T;
+      const double peak = fmax(px[0], fmax(px[1], px[2]));
+      if (T > 0.0 && peak >= p->threshold) {
+        ++sources;
+        if (T < Tmin) Tmin = T;
+        if (T > Tmax) Tmax = T;
+      }
+    }
+  }
+  sl_glow_stats st;
+  memset(&st, 0, sizeof st);
+  st.sources = sources;
+  st.T_min = sources ? Tmin : 0.0;
+  st.T_max = Tmax;
+  float *src[3] = {planes, planes + npx, planes + 2 * npx};
+  float *glow[3] = {planes + 3 * npx, planes + 4 * npx, planes + 5 * npx};
+  /* Layers evenly spaced in log T; a source between two layers feeds both with linear weights
+   * in log T, so its glow changes continuously with its depth. */
+  const int L = sources ? (Tmax > Tmin * (1.0 + 1e-9) ? p->n_layers : 1) : 0;
+  const double lmin = sources ? log(Tmin) : 0.0, lstep = L > 1 ? (log(Tmax) - lmin) / (L - 1) : 1.0;
+  for (int l = 0; l < L && rc == SL_OK; ++l) {
+    int any = 0;
+    for (size_t i = 0; i < npx; ++i) {
+      const float *px = in->rgba + 4 * i;
+      double w = 0.0;
+      if (Tpx[i] > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold) {
+        const double d = L > 1 ? fabs((log(Tpx[i]) - lmin) / lstep - l) : 0.0;
+        w = d < 1.0 ? 1.0 - d : 0.0;
+      }
+      for (int c = 0; c < 3; ++c) src[c][i] = (float)(w * px[c]);
+      any |= w > 0.0;
+    }
+    if (!any) continue; /* no sources at this depth: no work */
+    const double Tl = exp(lmin + l * lstep);
+    const double t0 = now_s();
+    sl_glow_kernel k;
+    rc = sl_glow_kernel_build(&k, &p->medium, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
+    if (rc) break;
+    const double t1 = now_s();
+    rc = sl_glow_convolve(ws, &k, (const float *const *)src, glow, 3, err);
+    st.kernel_seconds += t1 - t0;
+    st.convolve_seconds += now_s() - t1;
+    st.layer_T[st.layers_used] = Tl;
+    st.layer_terms[st.layers_used] = k.terms;
+    ++st.layers_used;
+    sl_glow_kernel_free(&k);
+    if (p->progress) p->progress(p->progress_user, (l + 1.0) / L);
+  }
+  if (rc == SL_OK) {
+    for (size_t i = 0; i < npx; ++i) {
+      const float *px = in->rgba + 4 * i;
+      float *o = out->rgba + 4 * i;
+      const double T = Tpx[i];
+      const int is_source = T > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold;
+      const float a = px[3];
+      for (int c = 0; c < 3; ++c) {
+        double base = px[c];
+        if (is_source) {
+          base = 0.0; /* all of it is in the glow, the unscattered beam included */
+        } else if (T > 0.0 && p->attenuate) {
+          const double t = exp(-T);
+          base = px[c] * t + p->airlight[c] * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
+        }
+        o[c] = (float)(base + glow[c][i]);
+      }
+      o[3] = a;
+    }
+    if (out != in) {
+      if (out->depth && in->depth) memcpy(out->depth, in->depth, sizeof(float) * npx);
+      if (out->transparency && in->transparency) memcpy(out->transparency, in->transparency, sizeof(float) * npx);
+    }
+    if (p->progress) p->progress(p->progress_user, 1.0);
+  }
+  if (stats) *stats = st;
+  free(Tpx);
+  free(planes);
+  return rc;
+}

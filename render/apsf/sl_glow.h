@@ -1,0 +1,99 @@
+/* Glows around light sources: the 2D point spread function of a pinhole camera and the
+ * depth-dependent convolution of Narasimhan et al., sections 7.2-7.3, with the attenuation and
+ * airlight of eqs. 30-31. Plan once per frame size (sl_glow_workspace: FFTW plans and buffers),
+ * then convolve as many frames as needed. FFTW's planner is not thread-safe: create workspaces
+ * outside parallel regions; one workspace serves one thread at a time. */
+#ifndef SL_GLOW_H
+#define SL_GLOW_H
+
+#include "sl_apsf.h"
+#include "sl_image.h"
+#include "sl_status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum sl_glow_norm {
+  /* Kernel = fluence weight (sl_apsf.h) times each pixel's solid angle: a source's image energy
+   * E becomes E times the model's fluence fraction inside the frame (e^{-3(1-W0)T} over the
+   * whole sphere; less in a pinhole's view). Resolution independent. */
+  SL_GLOW_FLUENCE = 0,
+  /* Kernel divided by its centre value (the paper's section 2.2.3 practical choice): the
+   * source pixel keeps its value; the glow's energy then depends on the pixel size. */
+  SL_GLOW_PEAK = 1
+} sl_glow_norm;
+
+/* A 2D PSF sampled on pixel offsets -rx..rx, -ry..ry (row-major, offset (dx, dy) at
+ * w[(dy + ry) * (2 rx + 1) + dx + rx]). Pinhole camera at the source's distance inside the
+ * medium: a pixel at r pixels from the source sees mu = cos(atan(r / focal_px)) (Fig. 10),
+ * the same at every position in the frame (exact at the principal point; see docs/APSF.md). */
+typedef struct sl_glow_kernel {
+  int rx, ry;
+  double *w;
+  double sum;      /* sum of w */
+  double T, blend, direct;
+  int terms;
+} sl_glow_kernel;
+
+int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, double focal_px, int rx, int ry,
+                         sl_glow_norm norm, double tolerance, sl_error *err);
+void sl_glow_kernel_free(sl_glow_kernel *k);
+
+/* Focal length in pixels of a pinhole with vertical field of view fov_y (radians). */
+double sl_glow_focal_px(int height, double fov_y_rad);
+
+typedef struct sl_glow_workspace sl_glow_workspace;
+/* Plans real-to-complex and complex-to-real FFTs (FFTW_ESTIMATE: deterministic) for frames of
+ * width x height and kernels up to rx, ry (<= 0: the whole frame, width - 1 and height - 1,
+ * so the glow is never cut). The transform size is the smallest 2^a 3^b 5^c 7^d at least
+ * width + rx by height + ry: linear, not circular, convolution. */
+sl_glow_workspace *sl_glow_workspace_create(int width, int height, int rx, int ry, sl_error *err);
+void sl_glow_workspace_free(sl_glow_workspace *ws);
+void sl_glow_workspace_size(const sl_glow_workspace *ws, int *nx, int *ny);
+
+/* accum[c][i] += (kernel * src[c])[i] for n_channels float planes of width x height (linear
+ * convolution, cropped to the frame). Planes that are all zero cost nothing. */
+int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float *const *src, float *const *accum,
+                     int n_channels, sl_error *err);
+
+typedef struct sl_glow_params {
+  sl_apsf_medium medium;
+  double sigma;         /* extinction coefficient of the medium (1/m), T = sigma * distance */
+  double fixed_T;       /* > 0: every pixel at this T and depth is not read */
+  double sky_distance;  /* distance (m) given to pixels of infinite depth; <= 0: such pixels are
+                           neither sources nor attenuated (the sky is outside the medium) */
+  double fov_y_deg;     /* vertical field of view of the pinhole that made the image */
+  double threshold;     /* a pixel is a source when its largest RGB value reaches this */
+  int n_layers;         /* depth layers, 1..64, spaced evenly in log T over the sources */
+  sl_glow_norm norm;
+  int attenuate;        /* eq. 30: e^{-T} on pixels that are not sources */
+  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources */
+  double tolerance;     /* series tolerance (sl_apsf_terms_needed) */
+  void (*progress)(void *user, double fraction);
+  void *progress_user;
+} sl_glow_params;
+
+void sl_glow_params_defaults(sl_glow_params *p);
+
+#define SL_GLOW_MAX_LAYERS 64
+typedef struct sl_glow_stats {
+  int sources;                          /* source pixels */
+  int layers_used;                      /* layers that held sources (only these are convolved) */
+  double T_min, T_max;                  /* over the sources */
+  double layer_T[SL_GLOW_MAX_LAYERS];   /* of the layers used */
+  int layer_terms[SL_GLOW_MAX_LAYERS];
+  double kernel_seconds, convolve_seconds;
+} sl_glow_stats;
+
+/* out = glows of the sources plus the rest of the image attenuated (eqs. 30-31). in's depth is
+ * the distance along the view axis (sl_image.h); it is turned into the distance to the camera.
+ * out must be allocated at in's size; it may alias in. Alpha, depth and transparency are
+ * copied. ws must have been created for in's size. stats may be NULL. */
+int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, sl_image *out,
+                  sl_glow_stats *stats, sl_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
