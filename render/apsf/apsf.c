@@ -52,25 +52,29 @@ static double chi_tail_bound(const sl_apsf_medium *m, int k0)
 int sl_apsf_terms_needed(const sl_apsf_medium *m, double T, double tolerance)
 {
   if (!(T > 1.0) || !(tolerance > 0.0)) return SL_APSF_MAX_TERMS + 1;
-  /* Everything relative to g_1 so that nothing underflows at large T. The kept sum S_M =
-   * sum_{l<M} (g_l + g_{l+1}) is S(T, 1) minus a positive tail, so bounding the tail by
-   * tolerance * S_M bounds it by tolerance * S(T, 1) too. The tail, for every mu:
+  /* All in logarithms: at large T with absorption the orders differ by e^{10^4} and more, and
+   * g_1 need not be the largest. The kept sum S_M = sum_{l<M} (g_l + g_{l+1}) is S(T, 1) minus a
+   * positive tail, and S(T, 1) = sum of all the (positive) coefficients is the largest |S|, so
+   * bounding the tail by tolerance * S_M bounds the error by tolerance * max |S|. The tail,
+   * for every mu:
    *   |sum_{l>=M} (g_l + g_{l+1}) L_l| <= 2 sum_{m>=M} g_m <= 2 e^{-b T} T^{-(M+1)} / (1 - 1/T),
    * with b = 2 (1 - W0 sup_{k>=M-1} |chi_k|) <= beta_m for all m >= M. */
-  const double ref = sl_apsf_log_g(m, 1, T), lnT = log(T), geometric = -log1p(-1.0 / T);
-  double kept = 0.0;
+  const double lnT = log(T), geometric = -log1p(-1.0 / T), log_tol = log(tolerance);
+  double log_kept = -INFINITY, log_prev = -INFINITY; /* ln g_0 = -inf */
   for (int M = 1; M <= SL_APSF_MAX_TERMS; ++M) {
-    /* Adds a_{M-1} = g_{M-1} + g_M (g_0 = 0). */
-    const double g_prev = M >= 2 ? exp(sl_apsf_log_g(m, M - 1, T) - ref) : 0.0;
-    const double g_next = exp(sl_apsf_log_g(m, M, T) - ref);
-    kept += g_prev + g_next;
+    /* Adds a_{M-1} = g_{M-1} + g_M. */
+    const double log_next = sl_apsf_log_g(m, M, T);
+    const double hi = fmax(log_prev, log_next), lo = fmin(log_prev, log_next);
+    const double log_a = hi + log1p(exp(lo - hi));
+    const double khi = fmax(log_kept, log_a), klo = fmin(log_kept, log_a);
+    log_kept = khi + log1p(exp(klo - khi));
+    log_prev = log_next;
     const double b = 2.0 * (1.0 - m->albedo * chi_tail_bound(m, M - 1));
-    const double log_tail = log(2.0) - b * T - (M + 1.0) * lnT + geometric - ref;
-    if (log_tail <= log(tolerance * kept)) return M;
+    const double log_tail = log(2.0) - b * T - (M + 1.0) * lnT + geometric;
+    if (log_tail <= log_tol + log_kept) return M;
     if (m->chi && M > m->n_chi + 8) {
       /* Past the table every chi is 0 and the bound only shrinks geometrically: jump. */
-      const double need = (log_tail - log(tolerance * kept)) / lnT;
-      const double jump = ceil(need) + M;
+      const double jump = ceil((log_tail - log_tol - log_kept) / lnT) + M;
       return jump > SL_APSF_MAX_TERMS ? SL_APSF_MAX_TERMS + 1 : (int)jump;
     }
   }
@@ -101,24 +105,30 @@ int sl_apsf_series_init(sl_apsf_series *s, const sl_apsf_medium *m, double T, do
   s->chi = malloc(sizeof(double) * (size_t)terms);
   if (!s->chi) return sl_fail(err, SL_ERR_NOMEM, "apsf: out of memory for %d terms", terms);
   s->terms = terms;
-  /* Coefficients of T^2 S (the c_m = sigma^2 form of section 2.2.3, which never underflows);
-   * sl_legendre_series sums (2l+1)/(4 pi) chi_l P_l, hence the factor. */
-  const double lnT2 = 2.0 * log(T);
-  double g_l = 0.0; /* T^2 g_0 = 0 */
+  /* Coefficients relative to the largest one, from logarithms: e^{-beta T} T^{-(m+1)} leaves
+   * double's range at T in the hundreds when the medium absorbs, long before the shape does. */
+  double log_prev = -INFINITY; /* ln g_0 */
+  s->log_scale = -INFINITY;
   for (int l = 0; l < terms; ++l) {
-    const double g_next = exp(sl_apsf_log_g(m, l + 1, T) + lnT2);
+    const double log_next = sl_apsf_log_g(m, l + 1, T);
     /* Narasimhan et al., eq. 27: the coefficient of L_l is g_l + g_{l+1}. */
-    s->chi[l] = 4.0 * SL_PI / (2.0 * l + 1.0) * (g_l + g_next);
-    g_l = g_next;
+    const double hi = fmax(log_prev, log_next), lo = fmin(log_prev, log_next);
+    s->chi[l] = hi + log1p(exp(lo - hi)); /* ln(g_l + g_{l+1}) for now */
+    if (s->chi[l] > s->log_scale) s->log_scale = s->chi[l];
+    log_prev = log_next;
   }
+  /* sl_legendre_series sums (2l+1)/(4 pi) chi_l P_l, hence the factor. */
+  for (int l = 0; l < terms; ++l) s->chi[l] = 4.0 * SL_PI / (2.0 * l + 1.0) * exp(s->chi[l] - s->log_scale);
   return SL_OK;
 }
 
-double sl_apsf_series_eval(const sl_apsf_series *s, double mu)
+double sl_apsf_series_shape(const sl_apsf_series *s, double mu)
 {
   const double c = mu > 1.0 ? 1.0 : (mu < -1.0 ? -1.0 : mu);
-  return sl_legendre_series(s->chi, s->terms, c) / (s->T * s->T);
+  return sl_legendre_series(s->chi, s->terms, c);
 }
+
+double sl_apsf_series_eval(const sl_apsf_series *s, double mu) { return exp(s->log_scale) * sl_apsf_series_shape(s, mu); }
 
 void sl_apsf_series_free(sl_apsf_series *s)
 {
@@ -207,7 +217,9 @@ int sl_apsf_profile_build(sl_apsf_profile *p, const sl_apsf_medium *m, double T,
       if (i == 0) gamma = 0.5 * gamma_max / ((double)(n_samples - 1) * (n_samples - 1));
       S += (1.0 - w) * sl_apsf_single_scatter(m, T, gamma);
     }
-    p->weight[i] = sl_apsf_fluence_weight(T, S);
+    /* Radiance is not negative; the series can be where absorption is strong and T large
+     * (docs/APSF.md, stability). */
+    p->weight[i] = S > 0.0 ? sl_apsf_fluence_weight(T, S) : 0.0;
   }
   sl_apsf_series_free(&s);
   return SL_OK;

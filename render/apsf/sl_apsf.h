@@ -57,15 +57,19 @@ int sl_apsf_terms_needed(const sl_apsf_medium *m, double T, double tolerance);
 /* The series for one T, planned once and evaluated at many mu. */
 typedef struct sl_apsf_series {
   double T, tolerance;
-  int terms;       /* Legendre terms kept: L_0 .. L_{terms-1} */
-  double *chi;     /* the coefficients (g_m + g_{m+1}) in sl_legendre_series's convention */
+  int terms;        /* Legendre terms kept: L_0 .. L_{terms-1} */
+  double log_scale; /* S = exp(log_scale) * shape: the largest coefficient g_l + g_{l+1} */
+  double *chi;      /* the coefficients over exp(log_scale), in sl_legendre_series's convention */
 } sl_apsf_series;
 
 /* terms <= 0: chosen from tolerance (> 0). T must exceed 1. */
 int sl_apsf_series_init(sl_apsf_series *s, const sl_apsf_medium *m, double T, double tolerance, int terms,
                         sl_error *err);
-/* S(T, mu), eq. 27 (Clenshaw). */
+/* S(T, mu), eq. 27 (Clenshaw); underflows to 0 where S < 1e-308 (T in the hundreds with
+ * absorption), where the shape below still holds. */
 double sl_apsf_series_eval(const sl_apsf_series *s, double mu);
+/* S(T, mu) / exp(log_scale): the same function scaled to order 1, for any T. */
+double sl_apsf_series_shape(const sl_apsf_series *s, double mu);
 void sl_apsf_series_free(sl_apsf_series *s);
 
 /* Single scattering of the point source seen from distance T, in S's units (the same radiance
