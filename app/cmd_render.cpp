@@ -19,6 +19,7 @@
 #include "composite_pass.h"
 #include "sl_image_io.h"
 #include "sl_renderer.h"
+#include "sl_optics.h"
 #include "sl_sky.h"
 #include "sl_storm.h"
 #include "sl_tempfile.h"
@@ -79,7 +80,8 @@ int sl_cmd_render(int argc, char **argv)
 {
   sl::Options o("render", "FILE --out frame.exr[,frame.png] [options]",
                 "Renders one time of a storm file with half-angle slicing (light buffer + eye buffer) and the\n"
-                "low-albedo lighting model (Riley et al. 2004, Fig. 13), composited with VTK's passes in a\n"
+                "multiple-scattering phase-function lighting of Riley et al. 2004 (or their low-albedo model),\n"
+                "under the analytic sky with aerial perspective, composited with VTK's passes in a\n"
                 "float framebuffer. EXR gets linear HDR RGBA (A = the volume's coverage) plus Z; PNG is\n"
                 "tone-mapped sRGB. Without an X display VTK cannot open a window: run under 'xvfb-run -a'.");
   o.option("out", "FILES", "output image(s), comma-separated: .exr (linear HDR) and/or .png (tone-mapped)");
@@ -92,6 +94,11 @@ int sl_cmd_render(int argc, char **argv)
   o.option("sun-elevation", "DEG", "sun elevation above the horizon (with --sun-azimuth)");
   o.option("date", "ISO8601", "UTC date-time that places the sun over the grid's centre (default: the file's time)");
   o.option("earth", "flat|round", "air mass of the sunlight: the paper's flat earth or a spherical one", "round");
+  o.option("lighting", "MODEL", "multiple (Riley eqs. 16-26 with eq. 24), eq25 (the paper's eq. 25), low-albedo (Fig. 13)",
+           "multiple");
+  o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr", "0");
+  o.option("wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
+           "rgb");
   o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
   o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
   o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");
@@ -146,6 +153,16 @@ int sl_cmd_render(int argc, char **argv)
     if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
   }
   if (o.str("earth") != "flat" && o.str("earth") != "round") return sl::fail(cmd, "--earth must be flat or round", 2);
+  sl_lighting lighting;
+  if (o.str("lighting") == "multiple") lighting = SL_LIGHTING_MULTIPLE;
+  else if (o.str("lighting") == "eq25") lighting = SL_LIGHTING_MULTIPLE_EQ25;
+  else if (o.str("lighting") == "low-albedo") lighting = SL_LIGHTING_LOW_ALBEDO;
+  else return sl::fail(cmd, "--lighting must be multiple, eq25 or low-albedo", 2);
+  const bool spectral = o.str("wavelengths") == "spectral";
+  if (!spectral && o.str("wavelengths") != "rgb") return sl::fail(cmd, "--wavelengths must be rgb or spectral", 2);
+  double xi;
+  if (!o.number("xi", &xi) || xi < 0) return sl::fail(cmd, "--xi must be a number >= 0", 2);
+  if (spectral && o.has("no-atmosphere")) return sl::fail(cmd, "--wavelengths spectral needs the atmosphere", 2);
   sl_utc date{};
   if (o.has("date")) {
     std::string why;
@@ -194,22 +211,50 @@ int sl_cmd_render(int argc, char **argv)
   }
   sl_atmosphere atmosphere;
   const bool with_air = !o.has("no-atmosphere");
-  if (with_air && sl_atmosphere_init(&atmosphere, sl_sky_rgb_wavelengths_nm, SL_SKY_RGB_COUNT,
+  double spectral_nm[SL_SKY_SPECTRAL_COUNT];
+  sl_sky_spectral_wavelengths(spectral_nm);
+  if (with_air && sl_atmosphere_init(&atmosphere, spectral ? spectral_nm : sl_sky_rgb_wavelengths_nm,
+                                     spectral ? SL_SKY_SPECTRAL_COUNT : SL_SKY_RGB_COUNT,
                                      o.str("earth") == "flat" ? SL_EARTH_FLAT : SL_EARTH_ROUND,
                                      SL_RAYLEIGH_BODHAINE1999, &err)) {
     sl_storm_frame_free(&frame);
     return sl::fail(cmd, err.message);
   }
 
+  // Particle tables only for the fields this storm has, at the scene's wavelengths (cached).
+  std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> optics(nullptr, sl_optics_free);
+  if (lighting != SL_LIGHTING_LOW_ALBEDO) {
+    sl_optics_request req;
+    sl_optics_request_defaults(&req);
+    req.particles = 0;
+    for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+      if (frame.volume.eta[p]) req.particles |= 1u << p;
+    if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) {
+      sl_storm_frame_free(&frame);
+      return sl::fail(cmd, err.message);
+    }
+    sl::Progress table_progress("tables", !quiet);
+    req.progress = progress_hook;
+    req.progress_user = &table_progress;
+    optics.reset(sl_optics_build(&req, &err));
+    table_progress.done();
+    if (!optics) {
+      sl_storm_frame_free(&frame);
+      return sl::fail(cmd, std::string("particle tables: ") + err.message);
+    }
+  }
+
   sl_scene scene{};
   scene.volume = &frame.volume;
   scene.atmosphere = with_air ? &atmosphere : nullptr;
+  scene.optics = optics.get();
+  scene.lighting = lighting;
+  scene.xi = xi;
   sl_sun_direction(sun_el, sun_az, scene.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) {
     scene.sun_irradiance[c] = 1.0;
     scene.sky_radiance[c] = sky[c];
   }
-  scene.albedo = 1.0;
   scene.termination_transparency = 1e-6;
   scene.slices = (int)slices;
   scene.light_resolution = (int)light_res;

@@ -4,6 +4,9 @@
  * independent within a pass, so the image does not depend on the number of threads. */
 #include "sl_renderer.h"
 
+#include "lighting.h"
+#include "sl_cie.h"
+
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
@@ -13,7 +16,11 @@ struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
   float *beta;          /* total extinction, m^-1 */
-  sl_grid_view beta_view;
+  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
+  sl_light_model model;
+  double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
+  int spectral;
+  sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */
   double content_center[3]; /* centre of the box around non-empty samples: the midplane's anchor */
   int any_extinction;
@@ -23,16 +30,18 @@ struct sl_renderer {
  * over the box's heights once per frame so the eye pass only interpolates. */
 #define SUN_TABLE_SIZE 257
 typedef struct sun_table {
+  int nwl;
   double z0, dz;
-  double rgb[SUN_TABLE_SIZE][SL_CHANNELS];
+  double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
 } sun_table;
 
 static void sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi)
 {
+  t->nwl = sc->atmosphere ? sc->atmosphere->count : SL_CHANNELS;
   t->z0 = zlo;
   t->dz = (zhi - zlo) / (SUN_TABLE_SIZE - 1);
   for (int i = 0; i < SUN_TABLE_SIZE; ++i)
-    for (int c = 0; c < SL_CHANNELS; ++c) {
+    for (int c = 0; c < t->nwl; ++c) {
       if (!sc->atmosphere) {
         t->rgb[i][c] = sc->sun_irradiance[c];
         continue;
@@ -46,14 +55,14 @@ static void sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *
     }
 }
 
-static void sun_at_height(const sun_table *t, double z, double out[SL_CHANNELS])
+static void sun_at_height(const sun_table *t, double z, double *out)
 {
   double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
   u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
   int i = (int)u;
   if (i > SUN_TABLE_SIZE - 2) i = SUN_TABLE_SIZE - 2;
   const double f = u - i;
-  for (int c = 0; c < SL_CHANNELS; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
+  for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
 }
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -164,11 +173,45 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     r->any_extinction = r->beta[i] > 0.0f;
   sl_grid_view_init(&r->beta_view, r->beta, &r->shape);
   sl_volume_bounds(&r->shape, r->lo, r->hi);
-  if (scene->atmosphere && scene->atmosphere->count != SL_CHANNELS) {
-    sl_fail(err, SL_ERR_ARG, "renderer: the atmosphere has %d wavelengths, the renderer %d",
-            scene->atmosphere->count, SL_CHANNELS);
+  if (sl_light_model_init(&r->model, scene, err)) {
     sl_renderer_destroy(r);
     return NULL;
+  }
+  if (!scene->atmosphere && r->model.nwl != SL_CHANNELS) {
+    sl_fail(err, SL_ERR_ARG, "renderer: without an atmosphere the renderer works in its three channels");
+    sl_renderer_destroy(r);
+    return NULL;
+  }
+  /* Three wavelengths are the paper's red, green and blue channels as they are; any other set is
+   * spectral radiance, converted to linear sRGB through the CIE 1931 observer. */
+  r->spectral = r->model.nwl != SL_CHANNELS;
+  memset(r->to_rgb, 0, sizeof r->to_rgb);
+  if (r->spectral) {
+    if (sl_cie_srgb_weights(scene->atmosphere->wavelength_nm, r->model.nwl, 1, r->to_rgb, err)) {
+      sl_renderer_destroy(r);
+      return NULL;
+    }
+  } else {
+    for (int c = 0; c < SL_CHANNELS; ++c) r->to_rgb[c * SL_CHANNELS + c] = 1.0;
+  }
+  /* Extinction per field from the tables' cross-sections (eq. 2), interleaved so one trilinear
+   * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
+  const size_t count = sl_volume_count(scene->volume);
+  const int nf = r->model.nf;
+  r->fields = malloc((nf > 0 ? nf : 1) * count * sizeof(float));
+  if (!r->fields) {
+    sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
+    sl_renderer_destroy(r);
+    return NULL;
+  }
+  for (size_t i = 0; i < count; ++i) {
+    double total = 0.0;
+    for (int j = 0; j < nf; ++j) {
+      const double b = scene->volume->eta[r->model.field[j]][i] * r->model.sigma_ext[j];
+      r->fields[i * nf + j] = (float)b;
+      total += b;
+    }
+    r->beta[i] = (float)total;
   }
   double clo[3], chi[3];
   sl_renderer_content_bounds(r, clo, chi);
@@ -179,7 +222,9 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
 void sl_renderer_destroy(sl_renderer *r)
 {
   if (!r) return;
+  sl_light_model_free(&r->model);
   free(r->beta);
+  free(r->fields);
   free(r);
 }
 
@@ -254,17 +299,56 @@ static void scatter_over_segment(double beta, double len, double rate, double m[
   m[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
 
+/* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample);
+ * returns 0 and zeros outside the box. */
+static int sample_fields(const sl_renderer *r, const double x[3], float *out)
+{
+  const sl_grid_view *g = &r->beta_view;
+  const int nf = r->model.nf;
+  int i0[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) {
+      for (int j = 0; j < nf; ++j) out[j] = 0.0f;
+      return 0;
+    }
+    double u = (x[a] - g->origin[a]) * g->inv_spacing[a];
+    const double umax = (double)(g->n[a] - 1);
+    u = u < 0.0 ? 0.0 : u > umax ? umax : u;
+    int i = (int)u;
+    if (i > g->n[a] - 2) i = g->n[a] - 2;
+    if (i < 0) i = 0;
+    i0[a] = i;
+    f[a] = g->n[a] > 1 ? u - i : 0.0;
+  }
+  const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
+  const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
+  const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
+  const float *c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
+  for (int j = 0; j < nf; ++j) {
+    const double c00 = c[j] + f[0] * (c[sx + j] - c[j]);
+    const double c10 = c[sy + j] + f[0] * (c[sy + sx + j] - c[sy + j]);
+    const double c01 = c[sz + j] + f[0] * (c[sz + sx + j] - c[sz + j]);
+    const double c11 = c[sz + sy + j] + f[0] * (c[sz + sy + sx + j] - c[sz + sy + j]);
+    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
+    out[j] = (float)(c0 + f[2] * (c1 - c0));
+  }
+  return 1;
+}
+
 typedef struct light_buffer {
   int w, h;
   double a[3], b[3];   /* texel axes, unit, perpendicular to the propagation direction */
   double amin, bmin, texel;
-  float *transparency; /* from the top of the volume to the current slice */
+  int stride;          /* nwl intensities (relative to the sunlight above the volume) and n */
+  float *state;        /* per texel: I per wavelength, then the expected scattering count n */
   float *u_in, *u_out; /* each texel ray's interval in the box */
   double *h_origin;    /* h . (texel ray origin) */
   int *k_lo, *k_hi;    /* slices a texel ray crosses */
 } light_buffer;
 
-static double light_lookup(const light_buffer *L, const double x[3])
+/* Bilinear look-up of the light buffer's state (I per wavelength and n) at x's projection. */
+static void light_lookup(const light_buffer *L, const double x[3], double *out)
 {
   double fa = (dot3(L->a, x) - L->amin) / L->texel - 0.5;
   double fb = (dot3(L->b, x) - L->bmin) / L->texel - 0.5;
@@ -274,12 +358,14 @@ static double light_lookup(const light_buffer *L, const double x[3])
   if (i > L->w - 2) i = L->w > 1 ? L->w - 2 : 0;
   if (j > L->h - 2) j = L->h > 1 ? L->h - 2 : 0;
   const double u = L->w > 1 ? fa - i : 0.0, v = L->h > 1 ? fb - j : 0.0;
-  const int di = L->w > 1 ? 1 : 0;
-  const size_t dj = L->h > 1 ? (size_t)L->w : 0;
-  const float *t = L->transparency + (size_t)j * L->w + i;
-  const double r0 = t[0] + u * (t[di] - t[0]);
-  const double r1 = t[dj] + u * (t[dj + di] - t[dj]);
-  return r0 + v * (r1 - r0);
+  const size_t di = L->w > 1 ? (size_t)L->stride : 0;
+  const size_t dj = L->h > 1 ? (size_t)L->w * L->stride : 0;
+  const float *t = L->state + ((size_t)j * L->w + i) * L->stride;
+  for (int c = 0; c < L->stride; ++c) {
+    const double r0 = t[c] + u * (t[di + c] - t[c]);
+    const double r1 = t[dj + c] + u * (t[dj + di + c] - t[dj + c]);
+    out[c] = r0 + v * (r1 - r0);
+  }
 }
 
 /* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
@@ -369,7 +455,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       }
       res = (int)ceil(extent / texel);
       /* Shadows finer than twice the image's resolution cannot be seen. */
-      const int image_limit = 2 * (img->width > img->height ? img->width : img->height);
+      const int side = img->width > img->height ? img->width : img->height;
+      const int image_limit = 2 * side > 512 ? 2 * side : 512;
       if (res > image_limit) res = image_limit;
       res = res < 64 ? 64 : res > 2048 ? 2048 : res;
     }
@@ -379,27 +466,35 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     if (L.w < 1) L.w = 1;
     if (L.h < 1) L.h = 1;
   }
+  const sl_light_model *m = &r->model;
+  const int nwl = m->nwl, nf = m->nf;
+  const int acc_stride = nwl + 2; /* radiance per wavelength, transparency, depth numerator */
+  L.stride = nwl + 1;
   const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
-  L.transparency = malloc(nl * sizeof(float));
+  L.state = malloc(nl * L.stride * sizeof(float));
   L.u_in = malloc(nl * sizeof(float));
   L.u_out = malloc(nl * sizeof(float));
   L.h_origin = malloc(nl * sizeof(double));
   L.k_lo = malloc(nl * sizeof(int));
   L.k_hi = malloc(nl * sizeof(int));
-  /* Eye state: premultiplied radiance, transparency, depth numerator, per-pixel ray data. */
-  float *acc = calloc(np * (SL_CHANNELS + 2), sizeof(float));
+  float *acc = calloc(np * acc_stride, sizeof(float));
   double *ray = malloc(np * 6 * sizeof(double)); /* direction xyz, t_in, t_out, h.d */
   int *pk = malloc(np * 2 * sizeof(int));
-  if (!L.transparency || !L.u_in || !L.u_out || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk) {
-    free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
-    free(acc), free(ray), free(pk), free(suntab);
+  /* The scattering angle is fixed along a pixel's ray (collimated sun): its table index and
+   * weight are hoisted out of the slice loop. */
+  int *angle_index = malloc(np * sizeof(int));
+  float *angle_weight = malloc(np * sizeof(float));
+  if (!L.state || !L.u_in || !L.u_out || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk || !angle_index ||
+      !angle_weight) {
+    free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+    free(acc), free(ray), free(pk), free(suntab), free(angle_index), free(angle_weight);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
   }
+  const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
   const double h_o = dot3(h, o);
-  const double phase = 1.0 / (4.0 * M_PI); /* constant phase function of the low-albedo model */
   long eye_samples = 0, light_samples = 0;
   double light_seconds = 0.0, eye_seconds = 0.0;
 
@@ -411,7 +506,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
       const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
       double u0, u1;
-      L.transparency[t] = 1.0f;
+      float *st = L.state + t * L.stride;
+      for (int c = 0; c < nwl; ++c) st[c] = 1.0f;
+      st[nwl] = 0.0f;
       L.h_origin[t] = dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
       if (ray_box(r->lo, r->hi, origin, prop, &u0, &u1)) {
@@ -426,12 +523,23 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       double d[3];
       pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
                 (int)(q / img->width), d);
-      float *a = acc + q * (SL_CHANNELS + 2);
-      a[SL_CHANNELS] = 1.0f; /* transparency toward the eye */
+      float *a = acc + q * acc_stride;
+      a[nwl] = 1.0f; /* transparency toward the eye */
       double *rq = ray + q * 6;
       rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
       rq[5] = dot3(h, d);
       pk[2 * q] = 1, pk[2 * q + 1] = 0;
+      angle_index[q] = 0, angle_weight[q] = 0.0f;
+      if (grid_table) {
+        /* Scattering angle between the sunlight's propagation and the direction to the eye. */
+        double c = dot3(sun, d);
+        c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+        const double u = acos(c) * grid_table->inv_step_rad;
+        int i = (int)u;
+        if (i > grid_table->n_angles - 2) i = grid_table->n_angles - 2;
+        angle_index[q] = i;
+        angle_weight[q] = (float)(u - i > 1.0 ? 1.0 : u - i);
+      }
       double t0, t1;
       /* A ray almost parallel to the slices crosses none of them within the box. */
       if (fabs(rq[5]) < 1e-9 || !ray_box(r->lo, r->hi, o, d, &t0, &t1) || t1 <= 0.0) continue;
@@ -447,7 +555,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       double t_start = 0.0;
 #pragma omp master
       t_start = omp_get_wtime();
-      /* Eye pass: gather single scattering from this slice. */
+      /* Eye pass: gather the light scattered toward the eye from this slice (eq. 26). */
 #pragma omp for schedule(dynamic, 256)
       for (size_t q = 0; q < np; ++q) {
         if (k < pk[2 * q] || k > pk[2 * q + 1]) continue;
@@ -456,13 +564,17 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         double mid, len;
         if (!clip_segment((sk - h_o) / hd, 0.5 * ds / fabs(hd), rq[3], rq[4], &mid, &len)) continue;
         const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-        const double beta = sl_grid_sample(&r->beta_view, x);
+        float beta_j[SL_MAX_FIELDS];
+        sample_fields(r, x, beta_j);
+        double beta = 0.0;
+        for (int j = 0; j < nf; ++j) beta += beta_j[j];
         eye_samples++;
         if (!(beta > 0.0)) continue;
-        /* The light buffer holds the sunlight's transparency up to this slab's first plane; from
-         * there the light crosses this slab's own medium (constant beta) for a path that grows
-         * linearly along the eye segment. Across the segment the buffer value is taken linear
-         * between its two ends, so the gather has a closed form (scatter_over_segment). */
+        /* The light buffer holds the light up to this slab's first plane; from there the light
+         * crosses this slab's own medium for a path that grows linearly along the eye segment.
+         * The buffer value is taken linear between the segment's two ends and the slab's own
+         * attenuation exponential in the path, so the gather has a closed form
+         * (scatter_over_segment). */
         const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
@@ -472,27 +584,43 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double path_far = fmax(0.0, fmin((dot3(h, x_far) - s_start) / hp,
                                                distance_to_box_toward(r->lo, r->hi, x_far, sun)));
         const double light_rate = (path_far - path_near) / len;
-        const double l0 = light_lookup(&L, x_near), l1 = light_lookup(&L, x_far);
-        double moments[2];
-        scatter_over_segment(beta, len, 1.0 + light_rate, moments);
-        const double gathered = exp(-beta * path_near) * (l0 * moments[0] + (l1 - l0) * moments[1]);
+        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
+        light_lookup(&L, x_near, l0);
+        light_lookup(&L, x_far, l1);
+        /* Within the slab, the light keeps fraction(path) of itself (eq. 24 or the plain
+         * transparency); its log, per metre of path, is the slab's effective extinction. */
+        const double path_mid = 0.5 * (path_near + path_far);
+        const double n_here = 0.5 * (l0[nwl] + l1[nwl]);
+        double kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
+        const double probe = fmax(path_mid, 1e-3 / beta);
+        sl_light_fraction(m, beta_j, n_here, probe, kept);
+        double n_sample = n_here;
+        if (m->mode != SL_LIGHTING_LOW_ALBEDO) {
+          double events = 0.0;
+          for (int j = 0; j < nf; ++j) events += m->albedo_mean[j] * beta_j[j];
+          n_sample += events * path_mid;
+        }
+        sl_eye_phase(m, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
+        sun_at_height(suntab, x[2], sunlight);
         const double opacity = -expm1(-beta * len);
         const double depth = mid * dot3(rq, fwd);
-        float *a = acc + q * (SL_CHANNELS + 2);
-        const double source = sc->albedo * phase * gathered;
-        double sunlight[SL_CHANNELS];
-        sun_at_height(suntab, x[2], sunlight);
-        if (!back_to_front) {
-          const double w = a[SL_CHANNELS];
-          for (int c = 0; c < SL_CHANNELS; ++c) a[c] += (float)(w * source * sunlight[c]);
-          a[SL_CHANNELS + 1] += (float)(w * opacity * depth);
-        } else {
-          for (int c = 0; c < SL_CHANNELS; ++c)
-            a[c] = (float)(a[c] * (1.0 - opacity) + source * sunlight[c]);
-          a[SL_CHANNELS + 1] = (float)(a[SL_CHANNELS + 1] * (1.0 - opacity) + opacity * depth);
+        float *a = acc + q * acc_stride;
+        const double w = back_to_front ? 1.0 : a[nwl];
+        for (int c = 0; c < nwl; ++c) {
+          const double slab_extinction = kept[c] > 0.0 ? -log(kept[c]) / probe : beta;
+          double moments[2];
+          scatter_over_segment(beta, len, 1.0 + slab_extinction / beta * light_rate, moments);
+          const double gathered = exp(-slab_extinction * path_near) * (l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1]);
+          /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
+           * phase term (beta_sca Ams) over beta. */
+          const double radiance = gathered * phase[c] / beta * sunlight[c];
+          if (back_to_front) a[c] = (float)(a[c] * (1.0 - opacity) + radiance);
+          else a[c] += (float)(w * radiance);
         }
-        a[SL_CHANNELS] *= (float)exp(-beta * len);
-        if (!back_to_front && a[SL_CHANNELS] < sc->termination_transparency) pk[2 * q + 1] = k;
+        if (back_to_front) a[nwl + 1] = (float)(a[nwl + 1] * (1.0 - opacity) + opacity * depth);
+        else a[nwl + 1] += (float)(w * opacity * depth);
+        a[nwl] *= (float)exp(-beta * len);
+        if (!back_to_front && a[nwl] < sc->termination_transparency) pk[2 * q + 1] = k;
       }
 #pragma omp master
       {
@@ -500,7 +628,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         eye_seconds += t_mid - t_start;
         t_start = t_mid;
       }
-      /* Light pass: attenuate the sunlight through this slice. */
+      /* Light pass: carry the light and its expected scattering count through this slice. */
 #pragma omp for schedule(dynamic, 256)
       for (size_t t = 0; t < nl; ++t) {
         if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
@@ -510,9 +638,13 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
                              ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
-        const double beta = sl_grid_sample(&r->beta_view, x);
+        float beta_j[SL_MAX_FIELDS];
+        sample_fields(r, x, beta_j);
         light_samples++;
-        if (beta > 0.0) L.transparency[t] *= (float)exp(-beta * len);
+        float *st = L.state + t * L.stride;
+        double beta = 0.0;
+        for (int f = 0; f < nf; ++f) beta += beta_j[f];
+        if (beta > 0.0) sl_light_step(m, beta_j, len, st, st + nwl);
       }
 #pragma omp master
       {
@@ -524,25 +656,29 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. With an
      * atmosphere the air in front of the volume's midplane (sec. 5) attenuates the volume and adds
      * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
-     * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame. */
+     * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame.
+     * Spectral radiance becomes linear sRGB here. */
     const double h_center = dot3(h, r->content_center);
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
-      const float *a = acc + q * (SL_CHANNELS + 2);
-      const float transparency = a[SL_CHANNELS];
-      double front[SL_CHANNELS] = {0}, front_t[SL_CHANNELS] = {1, 1, 1};
+      const float *a = acc + q * acc_stride;
+      const float transparency = a[nwl];
+      double front[SL_MAX_WAVELENGTHS] = {0}, front_t[SL_MAX_WAVELENGTHS], spectrum[SL_MAX_WAVELENGTHS];
+      for (int c = 0; c < nwl; ++c) front_t[c] = 1.0;
       if (sc->atmosphere && transparency < 1.0f) {
         const double *rq = ray + q * 6;
         double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
         t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
         sl_sky_view_segment(&view, rq, 0.0, t_mid, front, front_t);
       }
-      for (int c = 0; c < SL_CHANNELS; ++c)
-        img->rgba[4 * q + c] = (float)(front_t[c] * a[c] + (1.0 - transparency) * front[c]);
+      for (int c = 0; c < nwl; ++c) spectrum[c] = front_t[c] * a[c] + (1.0 - transparency) * front[c];
+      double rgb[3];
+      sl_cie_apply(r->to_rgb, nwl, spectrum, rgb);
+      for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = (float)rgb[c];
       img->rgba[4 * q + 3] = 1.0f - transparency;
       img->transparency[q] = transparency;
       const double coverage = 1.0 - transparency;
-      img->depth[q] = coverage > 1e-4 ? (float)(a[SL_CHANNELS + 1] / coverage) : INFINITY;
+      img->depth[q] = coverage > 1e-4 ? (float)(a[nwl + 1] / coverage) : INFINITY;
     }
   }
   if (stats) {
@@ -556,8 +692,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     stats->night = view.night;
   }
   free(suntab);
-  free(L.transparency), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
-  free(acc), free(ray), free(pk);
+  free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+  free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
   return SL_OK;
 }
 
@@ -570,25 +706,27 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err))
     return err->code;
   double fwd[3], right[3], up[3];
-  camera_basis(cam, fwd, right, up);
+  if (camera_basis(cam, fwd, right, up))
+    return sl_fail(err, SL_ERR_ARG, "background: camera position equals the target, or up is parallel to the view");
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const size_t n = (size_t)img->width * img->height;
+  const int nwl = r->model.nwl;
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < n; ++i) {
-    double L[SL_CHANNELS];
+    double L[SL_MAX_WAVELENGTHS], rgb[3];
     if (sc->atmosphere) {
-      double d[3];
+      double d[3], sun_disk[SL_MAX_WAVELENGTHS];
       pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
                 (int)(i / img->width), d);
-      double sun_disk[SL_CHANNELS];
       sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))
-        for (int c = 0; c < SL_CHANNELS; ++c) L[c] += sun_disk[c];
+        for (int c = 0; c < nwl; ++c) L[c] += sun_disk[c];
+      sl_cie_apply(r->to_rgb, nwl, L, rgb);
     } else {
-      for (int c = 0; c < SL_CHANNELS; ++c) L[c] = sc->sky_radiance[c];
+      for (int c = 0; c < SL_CHANNELS; ++c) rgb[c] = sc->sky_radiance[c];
     }
-    for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)L[c];
+    for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)rgb[c];
     img->rgba[4 * i + 3] = 1.0f;
     img->depth[i] = INFINITY;
     img->transparency[i] = 0.0f;

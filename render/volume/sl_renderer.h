@@ -6,6 +6,7 @@
 #define SL_RENDERER_H
 
 #include "sl_image.h"
+#include "sl_optics.h"
 #include "sl_sky.h"
 #include "sl_status.h"
 #include "sl_volume.h"
@@ -14,12 +15,20 @@
 extern "C" {
 #endif
 
-#define SL_CHANNELS 3 /* red 650 nm, green 515 nm, blue 440 nm (Riley et al. 2004, Table 2) */
+#define SL_MAX_WAVELENGTHS SL_SKY_MAX_WAVELENGTHS /* carried per sample: the atmosphere's set */
+#define SL_CHANNELS 3 /* output: linear sRGB; the paper's three wavelengths (650, 515, 440 nm) are
+                          used as red, green and blue as they are, other sets go through CIE 1931 */
 
 typedef enum sl_lighting {
   /* Single scattering with shadowing and a constant (isotropic) phase function: the comparison
    * model of Riley et al. 2004, Figure 13. */
-  SL_LIGHTING_LOW_ALBEDO = 0
+  SL_LIGHTING_LOW_ALBEDO = 0,
+  /* The multiple-scattering phase-function model (sec. 4.2): the light buffer carries intensity
+   * and the expected scattering count n (eqs. 21-22), transported by eq. 24 taken continuously
+   * in n; the eye gathers Ams_{n+1} + xi (eq. 26). */
+  SL_LIGHTING_MULTIPLE = 1,
+  /* The same with the paper's eq. 25 (worst-case order), kept for comparison. */
+  SL_LIGHTING_MULTIPLE_EQ25 = 2
 } sl_lighting;
 
 typedef struct sl_scene {
@@ -32,7 +41,11 @@ typedef struct sl_scene {
   const sl_atmosphere *atmosphere;
   double sun_irradiance[SL_CHANNELS]; /* without an atmosphere: collimated irradiance at the volume */
   double sky_radiance[SL_CHANNELS]; /* without an atmosphere: constant background sky */
-  double albedo;                    /* single-scattering albedo of every hydrometeor (paper: 1) */
+  /* Particle tables (render/optics) for the fields present and the atmosphere's wavelengths:
+   * cross-sections, albedos, Ams_n and F_n. Not owned. Required by the multiple-scattering
+   * lighting; NULL for the low-albedo model means Table 2's cross-sections and albedo 1. */
+  const sl_optics_tables *optics;
+  double xi;                        /* eq. 26's user back-scattering term, 1/sr (0: none) */
   int slices;                       /* slicing planes across the volume; 0: as many as resolve the grid */
   int light_resolution;             /* light-buffer texels along its longer side; 0 picks automatically */
   sl_lighting lighting;

@@ -51,7 +51,6 @@ int main(int argc, char **argv)
   const double t_load = sl::now_seconds() - t0;
   sl_scene sc{};
   sc.volume = &frame.volume;
-  sc.albedo = 1.0;
   sc.termination_transparency = 1e-6;
   sc.slices = slices;
   sl_sun_vector(240.0, 35.0, sc.sun_direction);

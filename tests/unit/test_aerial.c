@@ -16,7 +16,7 @@ static void centre_pixel(double distance, double sun_el, double beta, double out
   const double lo[3] = {-1000, -1000, 2000}, hi[3] = {1000, 1000, 4000};
   sl_volume v;
   make_box_volume(&v, 4, 4, 4, lo, hi, beta);
-  sl_scene sc = {.volume = &v, .atmosphere = &atm, .albedo = 1.0, .slices = 128};
+  sl_scene sc = {.volume = &v, .atmosphere = &atm, .slices = 128};
   sl_sun_direction(sun_el, 200.0, sc.sun_direction);
   sl_camera cam = {.position = {0, -distance, 3000}, .target = {0, 0, 3000}, .up = {0, 0, 1}, .fov_deg = 20,
                    .width = 9, .height = 9};

@@ -14,7 +14,7 @@ static void check_shape(const char *name, int nx, int ny, int nz, const double l
   double sun[3] = {0.4, -0.3, 0.8};
   const double n = sqrt(sun[0] * sun[0] + sun[1] * sun[1] + sun[2] * sun[2]);
   for (int a = 0; a < 3; ++a) sun[a] /= n;
-  sl_scene sc = {.volume = &v, .albedo = 1.0, .slices = 0, .light_resolution = 0};
+  sl_scene sc = {.volume = &v, .slices = 0, .light_resolution = 2048};
   memcpy(sc.sun_direction, sun, sizeof sun);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
   sl_camera cam = {.up = {0, 0, 1}, .fov_deg = 50, .width = 17, .height = 17};

@@ -30,7 +30,7 @@ static double render_error(double angle_deg, int slices, int *back_to_front)
   sl_slicing sl;
   sl_choose_slicing(view, sun, &sl);
   *back_to_front = sl.back_to_front;
-  sl_scene sc = {.volume = &v, .albedo = 1.0, .slices = slices, .light_resolution = 512};
+  sl_scene sc = {.volume = &v, .slices = slices, .light_resolution = 512};
   memcpy(sc.sun_direction, sun, sizeof sun);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0;
   sl_camera cam = {.position = {0, -9000, 1500}, .target = {0, 0, 1500}, .up = {0, 0, 1}, .fov_deg = 30, .width = 33,

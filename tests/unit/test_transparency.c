@@ -15,7 +15,7 @@ int main(void)
     const double beta = tau / (hi[2] - lo[2]);
     sl_volume v;
     CHECK(make_box_volume(&v, 8, 8, 3, lo, hi, beta) == 0);
-    sl_scene sc = {.volume = &v, .sun_direction = {0.3, 0.2, 0.9}, .albedo = 1.0, .slices = 64};
+    sl_scene sc = {.volume = &v, .sun_direction = {0.3, 0.2, 0.9}, .slices = 64};
     for (int c = 0; c < SL_CHANNELS; ++c) sc.sky_radiance[c] = 1.0;
     /* Camera 6 km above the slab looking straight down. */
     sl_camera cam = {.position = {0, 0, 7500}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 60, .width = 9,
