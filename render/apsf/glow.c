@@ -27,66 +27,94 @@ void sl_glow_kernel_free(sl_glow_kernel *k)
 /* Solid angle of a unit pixel at r pixels from the principal point: dA cos / d^2 = f / d^3. */
 static double pixel_solid_angle(double f, double r2) { return f / ((f * f + r2) * sqrt(f * f + r2)); }
 
-int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, double focal_px, int rx, int ry,
-                         sl_glow_norm norm, double tolerance, sl_error *err)
+/* The 2D PSF as a function of the pixel offset: 8 x 8 sub-samples within 6 pixels of the
+ * source (where the profile changes within a pixel), a radial table uniform in sqrt(r) beyond
+ * (the kernel of an HD frame has 8 M taps per layer: no atan per tap). */
+enum { NEAR = 6, SUB = 8, NR = 16384 };
+typedef struct kernel_model {
+  double near[NEAR][NEAR]; /* |dx|, |dy| < 6, Dirac included */
+  double radial[NR];
+  double inv_r_table, scale;
+  double T, blend, direct;
+  int terms;
+} kernel_model;
+
+static int model_build(kernel_model *km, const sl_apsf_medium *m, double T, double focal_px, int rx, int ry,
+                       sl_glow_norm norm, double tolerance, sl_error *err)
 {
-  k->w = NULL;
   if (rx < 0 || ry < 0 || (double)(2 * rx + 1) * (2 * ry + 1) > 1e9)
     return sl_fail(err, SL_ERR_ARG, "glow: kernel size %d x %d is out of range", 2 * rx + 1, 2 * ry + 1);
   if (!(focal_px > 0.0) || !isfinite(focal_px))
     return sl_fail(err, SL_ERR_ARG, "glow: focal length must be > 0 pixels (got %g)", focal_px);
-  const double r_max = sqrt((double)rx * rx + (double)ry * ry) + 2.0;
+  const double r_max = sqrt((double)rx * rx + (double)ry * ry) + 2.0 * NEAR;
   sl_apsf_profile prof;
   if (sl_apsf_profile_build(&prof, m, T, tolerance, atan(r_max / focal_px), 4096, err)) return err->code;
+  km->T = T;
+  km->blend = prof.blend;
+  km->direct = prof.direct;
+  km->terms = prof.terms;
+  km->inv_r_table = 1.0 / r_max;
+  for (int i = 0; i < NR; ++i) {
+    const double u = (double)i / (NR - 1), r = r_max * u * u;
+    km->radial[i] = sl_apsf_profile_eval(&prof, atan(r / focal_px)) * pixel_solid_angle(focal_px, r * r);
+  }
+  for (int dy = 0; dy < NEAR; ++dy)
+    for (int dx = 0; dx < NEAR; ++dx) {
+      double v = 0.0;
+      for (int j = 0; j < SUB; ++j)
+        for (int i = 0; i < SUB; ++i) {
+          const double x = dx + (i + 0.5) / SUB - 0.5, y = dy + (j + 0.5) / SUB - 0.5, s2 = x * x + y * y;
+          v += sl_apsf_profile_eval(&prof, atan(sqrt(s2) / focal_px)) * pixel_solid_angle(focal_px, s2);
+        }
+      km->near[dy][dx] = v / (SUB * SUB);
+    }
+  km->near[0][0] += prof.direct; /* eq. 30's Dirac: the unscattered beam */
+  sl_apsf_profile_free(&prof);
+  km->scale = 1.0;
+  if (norm == SL_GLOW_PEAK) {
+    if (!(km->near[0][0] > 0.0))
+      return sl_fail(err, SL_ERR_DATA, "glow: the PSF at T = %g has no positive centre value", T);
+    km->scale = 1.0 / km->near[0][0];
+  }
+  return SL_OK;
+}
+
+static inline double model_value(const kernel_model *km, int dx, int dy)
+{
+  dx = dx < 0 ? -dx : dx;
+  dy = dy < 0 ? -dy : dy;
+  if (dx < NEAR && dy < NEAR && dx * dx + dy * dy < NEAR * NEAR) return km->scale * km->near[dy][dx];
+  const double t = sqrt(sqrt((double)dx * dx + (double)dy * dy) * km->inv_r_table) * (NR - 1);
+  int i = (int)t;
+  if (i > NR - 2) i = NR - 2;
+  return km->scale * (km->radial[i] + (t - i) * (km->radial[i + 1] - km->radial[i]));
+}
+
+int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, double focal_px, int rx, int ry,
+                         sl_glow_norm norm, double tolerance, sl_error *err)
+{
+  k->w = NULL;
+  kernel_model *km = malloc(sizeof *km);
+  if (!km) return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a kernel");
+  int rc = model_build(km, m, T, focal_px, rx, ry, norm, tolerance, err);
   const int nx = 2 * rx + 1, ny = 2 * ry + 1;
-  k->w = malloc(sizeof(double) * (size_t)nx * (size_t)ny);
-  if (!k->w) {
-    sl_apsf_profile_free(&prof);
-    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d kernel", nx, ny);
+  if (rc == SL_OK && !(k->w = malloc(sizeof(double) * (size_t)nx * (size_t)ny)))
+    rc = sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d kernel", nx, ny);
+  if (rc) {
+    free(km);
+    return rc;
   }
   k->rx = rx;
   k->ry = ry;
   k->T = T;
-  k->blend = prof.blend;
-  k->direct = prof.direct;
-  k->terms = prof.terms;
-  /* One quadrant, mirrored: the PSF is rotationally symmetric (section 7.2). Pixels near the
-   * source average 8 x 8 sub-samples, where the profile changes within a pixel. */
-  const int sub = 8;
-  for (int dy = 0; dy <= ry; ++dy) {
-    for (int dx = 0; dx <= rx; ++dx) {
-      double v;
-      const double r2 = (double)dx * dx + (double)dy * dy;
-      if (r2 < 36.0) {
-        v = 0.0;
-        for (int j = 0; j < sub; ++j)
-          for (int i = 0; i < sub; ++i) {
-            const double x = dx + (i + 0.5) / sub - 0.5, y = dy + (j + 0.5) / sub - 0.5, s2 = x * x + y * y;
-            v += sl_apsf_profile_eval(&prof, atan(sqrt(s2) / focal_px)) * pixel_solid_angle(focal_px, s2);
-          }
-        v /= sub * sub;
-      } else {
-        v = sl_apsf_profile_eval(&prof, atan(sqrt(r2) / focal_px)) * pixel_solid_angle(focal_px, r2);
-      }
-      if (dx == 0 && dy == 0) v += prof.direct; /* eq. 30's Dirac: the unscattered beam */
-      k->w[(size_t)(ry + dy) * nx + rx + dx] = v;
-      k->w[(size_t)(ry + dy) * nx + rx - dx] = v;
-      k->w[(size_t)(ry - dy) * nx + rx + dx] = v;
-      k->w[(size_t)(ry - dy) * nx + rx - dx] = v;
-    }
-  }
-  sl_apsf_profile_free(&prof);
-  if (norm == SL_GLOW_PEAK) {
-    const double c = k->w[(size_t)ry * nx + rx];
-    if (!(c > 0.0)) {
-      sl_glow_kernel_free(k);
-      return sl_fail(err, SL_ERR_DATA, "glow: the PSF at T = %g has no positive centre value", T);
-    }
-    for (size_t i = 0; i < (size_t)nx * ny; ++i) k->w[i] /= c;
-  }
+  k->blend = km->blend;
+  k->direct = km->direct;
+  k->terms = km->terms;
   double sum = 0.0;
-  for (size_t i = 0; i < (size_t)nx * ny; ++i) sum += k->w[i];
+  for (int dy = -ry; dy <= ry; ++dy)
+    for (int dx = -rx; dx <= rx; ++dx) sum += k->w[(size_t)(dy + ry) * nx + dx + rx] = model_value(km, dx, dy);
   k->sum = sum;
+  free(km);
   return SL_OK;
 }
 
@@ -94,6 +122,7 @@ struct sl_glow_workspace {
   int width, height, rx, ry, nx, ny;
   double *re;                    /* ny x nx real plane */
   fftw_complex *ks, *cs;         /* ny x (nx/2+1): kernel and channel spectra */
+  fftw_complex *sum[3];          /* per-channel sums over layers (allocated on first use) */
   fftw_plan fwd, inv;
 };
 
@@ -118,6 +147,7 @@ void sl_glow_workspace_free(sl_glow_workspace *ws)
   fftw_free(ws->re);
   fftw_free(ws->ks);
   fftw_free(ws->cs);
+  for (int c = 0; c < 3; ++c) fftw_free(ws->sum[c]);
   free(ws);
 }
 
@@ -163,50 +193,88 @@ void sl_glow_workspace_size(const sl_glow_workspace *ws, int *nx, int *ny)
   *ny = ws->ny;
 }
 
+/* The kernel wrapped around the origin (offset d at index d mod n) into ws->ks. The
+ * workspace's size (>= frame + radius) keeps wrapped kernel values off the frame. Either from
+ * a sampled kernel or straight from the model (no kernel-sized array in between). */
+static void kernel_spectrum_any(sl_glow_workspace *ws, const sl_glow_kernel *k, const kernel_model *km)
+{
+  const int nx = ws->nx, ny = ws->ny, rx = k ? k->rx : ws->rx, ry = k ? k->ry : ws->ry, kw = 2 * rx + 1;
+  memset(ws->re, 0, sizeof(double) * (size_t)nx * ny);
+  for (int dy = -ry; dy <= ry; ++dy) {
+    double *row = ws->re + (size_t)((dy + ny) % ny) * nx;
+    if (k) {
+      const double *kr = k->w + (size_t)(dy + ry) * kw + rx;
+      for (int dx = -rx; dx <= rx; ++dx) row[(dx + nx) % nx] = kr[dx];
+    } else {
+      for (int dx = 0; dx <= rx; ++dx) row[dx] = model_value(km, dx, dy);
+      for (int dx = 1; dx <= rx; ++dx) row[nx - dx] = row[dx];
+    }
+  }
+  fftw_execute_dft_r2c(ws->fwd, ws->re, ws->ks);
+}
+static void kernel_spectrum(sl_glow_workspace *ws, const sl_glow_kernel *k) { kernel_spectrum_any(ws, k, NULL); }
+
+/* The spectrum of one float plane, zero-padded, into ws->cs. Returns 0 for an all-zero plane. */
+static int plane_spectrum(sl_glow_workspace *ws, const float *src)
+{
+  const int nx = ws->nx, W = ws->width, H = ws->height;
+  int any = 0;
+  for (size_t i = 0; i < (size_t)W * H && !any; ++i) any = src[i] != 0.0f;
+  if (!any) return 0;
+  memset(ws->re, 0, sizeof(double) * (size_t)nx * ws->ny);
+  for (int y = 0; y < H; ++y) {
+    const float *s = src + (size_t)y * W;
+    double *row = ws->re + (size_t)y * nx;
+    for (int x = 0; x < W; ++x) row[x] = s[x];
+  }
+  fftw_execute_dft_r2c(ws->fwd, ws->re, ws->cs);
+  return 1;
+}
+
+/* dst (+)= cs * ks / (nx ny): FFTW's transforms are unnormalised. */
+static void multiply_spectra(sl_glow_workspace *ws, fftw_complex *dst, int add)
+{
+  const size_t ncplx = (size_t)ws->ny * (ws->nx / 2 + 1);
+  const double scale = 1.0 / ((double)ws->nx * ws->ny);
+  for (size_t i = 0; i < ncplx; ++i) {
+    const double a = ws->cs[i][0], b = ws->cs[i][1], kr = ws->ks[i][0], ki = ws->ks[i][1];
+    const double re = (a * kr - b * ki) * scale, im = (a * ki + b * kr) * scale;
+    if (add) {
+      dst[i][0] += re;
+      dst[i][1] += im;
+    } else {
+      dst[i][0] = re;
+      dst[i][1] = im;
+    }
+  }
+}
+
+/* accum += the frame part of the inverse transform of spec (which it destroys). */
+static void inverse_into(sl_glow_workspace *ws, fftw_complex *spec, float *accum)
+{
+  fftw_execute_dft_c2r(ws->inv, spec, ws->re);
+  for (int y = 0; y < ws->height; ++y) {
+    float *o = accum + (size_t)y * ws->width;
+    const double *row = ws->re + (size_t)y * ws->nx;
+    for (int x = 0; x < ws->width; ++x) o[x] += (float)row[x];
+  }
+}
+
 int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float *const *src, float *const *accum,
                      int n_channels, sl_error *err)
 {
   if (k->rx > ws->rx || k->ry > ws->ry)
     return sl_fail(err, SL_ERR_ARG, "glow: kernel radius %d x %d exceeds the workspace's %d x %d", k->rx, k->ry, ws->rx,
                    ws->ry);
-  const int nx = ws->nx, ny = ws->ny, W = ws->width, H = ws->height, kw = 2 * k->rx + 1;
-  const size_t nreal = (size_t)nx * ny, ncplx = (size_t)ny * (nx / 2 + 1);
   int kernel_ready = 0;
   for (int c = 0; c < n_channels; ++c) {
-    int any = 0;
-    for (size_t i = 0; i < (size_t)W * H && !any; ++i) any = src[c][i] != 0.0f;
-    if (!any) continue;
+    if (!plane_spectrum(ws, src[c])) continue;
     if (!kernel_ready) {
-      /* The kernel wrapped around the origin: offset d sits at index d mod n. The workspace's
-       * size (>= frame + radius) keeps wrapped kernel values off the frame. */
-      memset(ws->re, 0, sizeof(double) * nreal);
-      for (int dy = -k->ry; dy <= k->ry; ++dy) {
-        double *row = ws->re + (size_t)((dy + ny) % ny) * nx;
-        const double *kr = k->w + (size_t)(dy + k->ry) * kw + k->rx;
-        for (int dx = -k->rx; dx <= k->rx; ++dx) row[(dx + nx) % nx] = kr[dx];
-      }
-      fftw_execute_dft_r2c(ws->fwd, ws->re, ws->ks);
+      kernel_spectrum(ws, k); /* through re, into ks: the plane's spectrum in cs stays */
       kernel_ready = 1;
     }
-    memset(ws->re, 0, sizeof(double) * nreal);
-    for (int y = 0; y < H; ++y) {
-      const float *s = src[c] + (size_t)y * W;
-      double *row = ws->re + (size_t)y * nx;
-      for (int x = 0; x < W; ++x) row[x] = s[x];
-    }
-    fftw_execute_dft_r2c(ws->fwd, ws->re, ws->cs);
-    const double scale = 1.0 / (double)nreal; /* FFTW's transforms are unnormalised */
-    for (size_t i = 0; i < ncplx; ++i) {
-      const double a = ws->cs[i][0], b = ws->cs[i][1], kr = ws->ks[i][0], ki = ws->ks[i][1];
-      ws->cs[i][0] = (a * kr - b * ki) * scale;
-      ws->cs[i][1] = (a * ki + b * kr) * scale;
-    }
-    fftw_execute_dft_c2r(ws->inv, ws->cs, ws->re);
-    for (int y = 0; y < H; ++y) {
-      float *o = accum[c] + (size_t)y * W;
-      const double *row = ws->re + (size_t)y * nx;
-      for (int x = 0; x < W; ++x) o[x] += (float)row[x];
-    }
+    multiply_spectra(ws, ws->cs, 0);
+    inverse_into(ws, ws->cs, accum[c]);
   }
   return SL_OK;
 }
@@ -248,9 +316,11 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
    * from the axis is the distance to the camera. NAN marks pixels outside the medium. */
   double *Tpx = malloc(sizeof(double) * npx);
   float *planes = calloc(npx * 6, sizeof(float));
-  if (!Tpx || !planes) {
+  kernel_model *km = malloc(sizeof *km);
+  if (!Tpx || !planes || !km) {
     free(Tpx);
     free(planes);
+    free(km);
     return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d frame", W, H);
   }
   int rc = SL_OK, sources = 0;
@@ -296,6 +366,13 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
    * in log T, so its glow changes continuously with its depth. */
   const int L = sources ? (Tmax > Tmin * (1.0 + 1e-9) ? p->n_layers : 1) : 0;
   const double lmin = sources ? log(Tmin) : 0.0, lstep = L > 1 ? (log(Tmax) - lmin) / (L - 1) : 1.0;
+  /* The convolution is linear: the layers' products are summed in the frequency domain and
+   * each channel goes back once, so a layer costs one kernel and three forward transforms. */
+  int used[3] = {0, 0, 0};
+  for (int c = 0; c < 3 && L > 0 && rc == SL_OK; ++c) {
+    if (!ws->sum[c]) ws->sum[c] = fftw_malloc(sizeof(fftw_complex) * (size_t)ws->ny * (ws->nx / 2 + 1));
+    if (!ws->sum[c]) rc = sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for %d x %d spectra", ws->nx, ws->ny);
+  }
   for (int l = 0; l < L && rc == SL_OK; ++l) {
     int any = 0;
     for (size_t i = 0; i < npx; ++i) {
@@ -311,18 +388,29 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     if (!any) continue; /* no sources at this depth: no work */
     const double Tl = exp(lmin + l * lstep);
     const double t0 = now_s();
-    sl_glow_kernel k;
-    rc = sl_glow_kernel_build(&k, &p->medium, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
+    rc = model_build(km, &p->medium, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
     if (rc) break;
     const double t1 = now_s();
-    rc = sl_glow_convolve(ws, &k, (const float *const *)src, glow, 3, err);
+    int kernel_ready = 0;
+    for (int c = 0; c < 3; ++c) {
+      if (!plane_spectrum(ws, src[c])) continue;
+      if (!kernel_ready) kernel_spectrum_any(ws, NULL, km);
+      kernel_ready = 1;
+      multiply_spectra(ws, ws->sum[c], used[c]);
+      used[c] = 1;
+    }
     st.kernel_seconds += t1 - t0;
     st.convolve_seconds += now_s() - t1;
     st.layer_T[st.layers_used] = Tl;
-    st.layer_terms[st.layers_used] = k.terms;
+    st.layer_terms[st.layers_used] = km->terms;
     ++st.layers_used;
-    sl_glow_kernel_free(&k);
-    if (p->progress) p->progress(p->progress_user, (l + 1.0) / L);
+    if (p->progress) p->progress(p->progress_user, (l + 1.0) / (L + 1.0));
+  }
+  if (rc == SL_OK) {
+    const double t0 = now_s();
+    for (int c = 0; c < 3; ++c)
+      if (used[c]) inverse_into(ws, ws->sum[c], glow[c]);
+    st.convolve_seconds += now_s() - t0;
   }
   if (rc == SL_OK) {
     for (size_t i = 0; i < npx; ++i) {
@@ -352,5 +440,6 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
   if (stats) *stats = st;
   free(Tpx);
   free(planes);
+  free(km);
   return rc;
 }
