@@ -22,7 +22,10 @@ struct sl_renderer {
   int spectral;
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */
-  double content_center[3]; /* centre of the box around non-empty samples: the midplane's anchor */
+  double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
+                               slices, light buffer and rays are clipped to it (empty-space skipping
+                               at the coarsest level) */
+  double content_center[3]; /* its centre: the midplane's anchor */
   int any_extinction;
 };
 
@@ -213,9 +216,8 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     }
     r->beta[i] = (float)total;
   }
-  double clo[3], chi[3];
-  sl_renderer_content_bounds(r, clo, chi);
-  for (int a = 0; a < 3; ++a) r->content_center[a] = 0.5 * (clo[a] + chi[a]);
+  sl_renderer_content_bounds(r, r->clo, r->chi);
+  for (int a = 0; a < 3; ++a) r->content_center[a] = 0.5 * (r->clo[a] + r->chi[a]);
   return r;
 }
 
@@ -405,7 +407,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sun, err)) return err->code;
   sun_table *suntab = malloc(sizeof *suntab);
   if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sun_table_init(suntab, sc, &view, r->lo[2], r->hi[2]);
+  sun_table_init(suntab, sc, &view, r->clo[2], r->chi[2]);
   const double prop[3] = {-sun[0], -sun[1], -sun[2]};
   sl_slicing slicing;
   sl_choose_slicing(fwd, sun, &slicing);
@@ -415,7 +417,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   /* Slices span the box along h. */
   double smin = INFINITY, smax = -INFINITY;
   for (int c = 0; c < 8; ++c) {
-    const double corner[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1], c & 4 ? r->hi[2] : r->lo[2]};
+    const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1], c & 4 ? r->chi[2] : r->clo[2]};
     const double s = dot3(h, corner);
     if (s < smin) smin = s;
     if (s > smax) smax = s;
@@ -435,8 +437,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     double amax = -INFINITY, bmax = -INFINITY;
     L.amin = L.bmin = INFINITY;
     for (int c = 0; c < 8; ++c) {
-      const double corner[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1],
-                                c & 4 ? r->hi[2] : r->lo[2]};
+      const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1],
+                                c & 4 ? r->chi[2] : r->clo[2]};
       const double a = dot3(L.a, corner), b = dot3(L.b, corner);
       if (a < L.amin) L.amin = a;
       if (a > amax) amax = a;
@@ -511,7 +513,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       st[nwl] = 0.0f;
       L.h_origin[t] = dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
-      if (ray_box(r->lo, r->hi, origin, prop, &u0, &u1)) {
+      if (ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
         L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
         const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
         L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
@@ -542,7 +544,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       }
       double t0, t1;
       /* A ray almost parallel to the slices crosses none of them within the box. */
-      if (fabs(rq[5]) < 1e-9 || !ray_box(r->lo, r->hi, o, d, &t0, &t1) || t1 <= 0.0) continue;
+      if (fabs(rq[5]) < 1e-9 || !ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
       if (t0 < 0.0) t0 = 0.0;
       rq[3] = t0, rq[4] = t1;
       const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
@@ -580,9 +582,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
         const double s_start = sk - 0.5 * ds;
         const double path_near = fmax(0.0, fmin((dot3(h, x_near) - s_start) / hp,
-                                                distance_to_box_toward(r->lo, r->hi, x_near, sun)));
+                                                distance_to_box_toward(r->clo, r->chi, x_near, sun)));
         const double path_far = fmax(0.0, fmin((dot3(h, x_far) - s_start) / hp,
-                                               distance_to_box_toward(r->lo, r->hi, x_far, sun)));
+                                               distance_to_box_toward(r->clo, r->chi, x_far, sun)));
         const double light_rate = (path_far - path_near) / len;
         double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
         light_lookup(&L, x_near, l0);
