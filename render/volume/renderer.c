@@ -5,6 +5,7 @@
 #include "sl_renderer.h"
 
 #include "lighting.h"
+#include "renderer_internal.h"
 #include "sl_cie.h"
 
 #include <math.h>
@@ -12,33 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-struct sl_renderer {
-  sl_scene scene;
-  sl_volume shape;      /* the lattice of the volume, without fields */
-  float *beta;          /* total extinction, m^-1 */
-  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
-  sl_light_model model;
-  double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
-  int spectral;
-  sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
-  double lo[3], hi[3];  /* the volume's box */
-  double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
-                               slices, light buffer and rays are clipped to it (empty-space skipping
-                               at the coarsest level) */
-  double content_center[3]; /* its centre: the midplane's anchor */
-  int any_extinction;
-};
 
-/* Sunlight reaching height z through the air (Riley eq. 12 with the view's air mass), tabulated
- * over the box's heights once per frame so the eye pass only interpolates. */
-#define SUN_TABLE_SIZE 257
-typedef struct sun_table {
-  int nwl;
-  double z0, dz;
-  double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
-} sun_table;
 
-static void sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi)
+
+
+void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi)
 {
   t->nwl = sc->atmosphere ? sc->atmosphere->count : SL_CHANNELS;
   t->z0 = zlo;
@@ -58,7 +37,7 @@ static void sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *
     }
 }
 
-static void sun_at_height(const sun_table *t, double z, double *out)
+void sl__sun_at_height(const sun_table *t, double z, double *out)
 {
   double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
   u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
@@ -68,16 +47,16 @@ static void sun_at_height(const sun_table *t, double z, double *out)
   for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
 }
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross3(const double a[3], const double b[3], double out[3])
+double sl__dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+void sl__cross3(const double a[3], const double b[3], double out[3])
 {
   out[0] = a[1] * b[2] - a[2] * b[1];
   out[1] = a[2] * b[0] - a[0] * b[2];
   out[2] = a[0] * b[1] - a[1] * b[0];
 }
-static int normalize3(double v[3])
+int sl__normalize3(double v[3])
 {
-  const double n = sqrt(dot3(v, v));
+  const double n = sqrt(sl__dot3(v, v));
   if (!(n > 0.0) || !isfinite(n)) return 1;
   v[0] /= n, v[1] /= n, v[2] /= n;
   return 0;
@@ -110,7 +89,7 @@ int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double
   double ds = INFINITY;
   const double *rays[2] = {view_dir, light_dir};
   for (int k = 0; k < 2; ++k) {
-    const double hr = fabs(dot3(h, rays[k]));
+    const double hr = fabs(sl__dot3(h, rays[k]));
     if (hr < 1e-6) continue;
     for (int a = 0; a < 3; ++a)
       if (fabs(rays[k][a]) > 1e-12) ds = fmin(ds, v->spacing[a] * hr / fabs(rays[k][a]));
@@ -122,13 +101,13 @@ int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out)
 {
   const double p[3] = {-sun_dir[0], -sun_dir[1], -sun_dir[2]}; /* light propagation */
-  const double vp = dot3(view_dir, p);
+  const double vp = sl__dot3(view_dir, p);
   const double sign = vp >= 0.0 ? 1.0 : -1.0;
   double h[3] = {sign * view_dir[0] + p[0], sign * view_dir[1] + p[1], sign * view_dir[2] + p[2]};
-  normalize3(h);
+  sl__normalize3(h);
   memcpy(out->half_vector, h, sizeof h);
   out->back_to_front = sign < 0.0;
-  double c = dot3(view_dir, sun_dir);
+  double c = sl__dot3(view_dir, sun_dir);
   c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
   out->eye_sun_angle_deg = acos(c) * 180.0 / M_PI;
 }
@@ -140,7 +119,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     return NULL;
   }
   double sun[3] = {scene->sun_direction[0], scene->sun_direction[1], scene->sun_direction[2]};
-  if (normalize3(sun)) {
+  if (sl__normalize3(sun)) {
     sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
     return NULL;
   }
@@ -231,7 +210,7 @@ void sl_renderer_destroy(sl_renderer *r)
 }
 
 /* Parametric interval [t0, t1] where the ray o + t d lies in the box; returns 0 when it misses. */
-static int ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
+int sl__ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
                    double *t1)
 {
   double a = -INFINITY, b = INFINITY;
@@ -255,7 +234,7 @@ static int ray_box(const double lo[3], const double hi[3], const double o[3], co
 }
 
 /* Distance from a point inside the box back toward the sun to the box's boundary. */
-static double distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])
+double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])
 {
   double best = INFINITY;
   for (int i = 0; i < 3; ++i) {
@@ -287,7 +266,7 @@ static int clip_segment(double c, double half, double t0, double t1, double *mid
  * m[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
  * constant and one that grows linearly from 0 to 1 along the segment. rate may be <= 0 when the
  * segment runs toward the sun. */
-static void scatter_over_segment(double beta, double len, double rate, double m[2])
+void sl__scatter_over_segment(double beta, double len, double rate, double m[2])
 {
   const double x = beta * rate * len;
   if (fabs(x) < 1e-4) {
@@ -301,9 +280,27 @@ static void scatter_over_segment(double beta, double len, double rate, double m[
   m[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
 
+void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
+                       const float *a, sl_image *img, size_t q)
+{
+  const int nwl = r->model.nwl;
+  const float transparency = a[nwl];
+  double front[SL_MAX_WAVELENGTHS] = {0}, front_t[SL_MAX_WAVELENGTHS], spectrum[SL_MAX_WAVELENGTHS];
+  for (int c = 0; c < nwl; ++c) front_t[c] = 1.0;
+  if (view && transparency < 1.0f) sl_sky_view_segment(view, d, 0.0, t_mid, front, front_t);
+  for (int c = 0; c < nwl; ++c) spectrum[c] = front_t[c] * a[c] + (1.0 - transparency) * front[c];
+  double rgb[3];
+  sl_cie_apply(r->to_rgb, nwl, spectrum, rgb);
+  for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = (float)rgb[c];
+  img->rgba[4 * q + 3] = 1.0f - transparency;
+  img->transparency[q] = transparency;
+  const double coverage = 1.0 - transparency;
+  img->depth[q] = coverage > 1e-4 ? (float)(a[nwl + 1] / coverage) : INFINITY;
+}
+
 /* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample);
  * returns 0 and zeros outside the box. */
-static int sample_fields(const sl_renderer *r, const double x[3], float *out)
+int sl__sample_fields(const sl_renderer *r, const double x[3], float *out)
 {
   const sl_grid_view *g = &r->beta_view;
   const int nf = r->model.nf;
@@ -352,8 +349,8 @@ typedef struct light_buffer {
 /* Bilinear look-up of the light buffer's state (I per wavelength and n) at x's projection. */
 static void light_lookup(const light_buffer *L, const double x[3], double *out)
 {
-  double fa = (dot3(L->a, x) - L->amin) / L->texel - 0.5;
-  double fb = (dot3(L->b, x) - L->bmin) / L->texel - 0.5;
+  double fa = (sl__dot3(L->a, x) - L->amin) / L->texel - 0.5;
+  double fb = (sl__dot3(L->b, x) - L->bmin) / L->texel - 0.5;
   fa = fa < 0.0 ? 0.0 : fa > L->w - 1 ? L->w - 1 : fa;
   fb = fb < 0.0 ? 0.0 : fb > L->h - 1 ? L->h - 1 : fb;
   int i = (int)fa, j = (int)fb;
@@ -371,24 +368,24 @@ static void light_lookup(const light_buffer *L, const double x[3], double *out)
 }
 
 /* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
-static int camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
+int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
 {
   for (int a = 0; a < 3; ++a) fwd[a] = cam->target[a] - cam->position[a];
-  if (normalize3(fwd)) return 1;
-  cross3(fwd, cam->up, right);
-  if (normalize3(right)) return 1;
-  cross3(right, fwd, up);
+  if (sl__normalize3(fwd)) return 1;
+  sl__cross3(fwd, cam->up, right);
+  if (sl__normalize3(right)) return 1;
+  sl__cross3(right, fwd, up);
   return 0;
 }
 
 /* The pinhole camera: pixel centres on an image plane at distance 1 along fwd. */
-static void pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half,
+void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half,
                       double aspect, int width, int height, int px, int py, double d[3])
 {
   const double sx = (2.0 * (px + 0.5) / width - 1.0) * tan_half * aspect;
   const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;
   for (int a = 0; a < 3; ++a) d[a] = fwd[a] + sx * right[a] + sy * up[a];
-  normalize3(d);
+  sl__normalize3(d);
 }
 
 int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats, sl_error *err)
@@ -398,7 +395,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   if (!(cam->fov_deg > 0.0 && cam->fov_deg < 170.0))
     return sl_fail(err, SL_ERR_ARG, "render: field of view %g degrees is out of range (0, 170)", cam->fov_deg);
   double fwd[3], right[3], up[3];
-  if (camera_basis(cam, fwd, right, up))
+  if (sl__camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
 
   const sl_scene *sc = &r->scene;
@@ -407,7 +404,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sun, err)) return err->code;
   sun_table *suntab = malloc(sizeof *suntab);
   if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sun_table_init(suntab, sc, &view, r->clo[2], r->chi[2]);
+  sl__sun_table_init(suntab, sc, &view, r->clo[2], r->chi[2]);
   const double prop[3] = {-sun[0], -sun[1], -sun[2]};
   sl_slicing slicing;
   sl_choose_slicing(fwd, sun, &slicing);
@@ -418,28 +415,28 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   double smin = INFINITY, smax = -INFINITY;
   for (int c = 0; c < 8; ++c) {
     const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1], c & 4 ? r->chi[2] : r->clo[2]};
-    const double s = dot3(h, corner);
+    const double s = sl__dot3(h, corner);
     if (s < smin) smin = s;
     if (s > smax) smax = s;
   }
   int nslices = sc->slices;
   if (nslices == 0) nslices = sl_slices_resolving_grid(&r->shape, h, fwd, prop, smax - smin);
   const double ds = (smax - smin) / nslices;
-  const double hp = dot3(h, prop); /* > 0 by construction */
+  const double hp = sl__dot3(h, prop); /* > 0 by construction */
 
   /* Light buffer: an orthographic grid perpendicular to the sunlight covering the box. */
   light_buffer L = {0};
   {
     const double helper[3] = {fabs(prop[2]) < 0.9 ? 0.0 : 1.0, 0.0, fabs(prop[2]) < 0.9 ? 1.0 : 0.0};
-    cross3(prop, helper, L.a);
-    normalize3(L.a);
-    cross3(prop, L.a, L.b);
+    sl__cross3(prop, helper, L.a);
+    sl__normalize3(L.a);
+    sl__cross3(prop, L.a, L.b);
     double amax = -INFINITY, bmax = -INFINITY;
     L.amin = L.bmin = INFINITY;
     for (int c = 0; c < 8; ++c) {
       const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1],
                                 c & 4 ? r->chi[2] : r->clo[2]};
-      const double a = dot3(L.a, corner), b = dot3(L.b, corner);
+      const double a = sl__dot3(L.a, corner), b = sl__dot3(L.b, corner);
       if (a < L.amin) L.amin = a;
       if (a > amax) amax = a;
       if (b < L.bmin) L.bmin = b;
@@ -496,7 +493,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
-  const double h_o = dot3(h, o);
+  const double h_o = sl__dot3(h, o);
   long eye_samples = 0, light_samples = 0;
   double light_seconds = 0.0, eye_seconds = 0.0;
 
@@ -511,9 +508,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       float *st = L.state + t * L.stride;
       for (int c = 0; c < nwl; ++c) st[c] = 1.0f;
       st[nwl] = 0.0f;
-      L.h_origin[t] = dot3(h, origin);
+      L.h_origin[t] = sl__dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
-      if (ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
+      if (sl__ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
         L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
         const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
         L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
@@ -523,18 +520,18 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
       double d[3];
-      pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
                 (int)(q / img->width), d);
       float *a = acc + q * acc_stride;
       a[nwl] = 1.0f; /* transparency toward the eye */
       double *rq = ray + q * 6;
       rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
-      rq[5] = dot3(h, d);
+      rq[5] = sl__dot3(h, d);
       pk[2 * q] = 1, pk[2 * q + 1] = 0;
       angle_index[q] = 0, angle_weight[q] = 0.0f;
       if (grid_table) {
         /* Scattering angle between the sunlight's propagation and the direction to the eye. */
-        double c = dot3(sun, d);
+        double c = sl__dot3(sun, d);
         c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
         const double u = acos(c) * grid_table->inv_step_rad;
         int i = (int)u;
@@ -544,7 +541,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       }
       double t0, t1;
       /* A ray almost parallel to the slices crosses none of them within the box. */
-      if (fabs(rq[5]) < 1e-9 || !ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
+      if (fabs(rq[5]) < 1e-9 || !sl__ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
       if (t0 < 0.0) t0 = 0.0;
       rq[3] = t0, rq[4] = t1;
       const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
@@ -567,7 +564,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         if (!clip_segment((sk - h_o) / hd, 0.5 * ds / fabs(hd), rq[3], rq[4], &mid, &len)) continue;
         const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
         float beta_j[SL_MAX_FIELDS];
-        sample_fields(r, x, beta_j);
+        sl__sample_fields(r, x, beta_j);
         double beta = 0.0;
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
         eye_samples++;
@@ -581,10 +578,10 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
         const double s_start = sk - 0.5 * ds;
-        const double path_near = fmax(0.0, fmin((dot3(h, x_near) - s_start) / hp,
-                                                distance_to_box_toward(r->clo, r->chi, x_near, sun)));
-        const double path_far = fmax(0.0, fmin((dot3(h, x_far) - s_start) / hp,
-                                               distance_to_box_toward(r->clo, r->chi, x_far, sun)));
+        const double path_near = fmax(0.0, fmin((sl__dot3(h, x_near) - s_start) / hp,
+                                                sl__distance_to_box_toward(r->clo, r->chi, x_near, sun)));
+        const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) / hp,
+                                               sl__distance_to_box_toward(r->clo, r->chi, x_far, sun)));
         const double light_rate = (path_far - path_near) / len;
         double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
         light_lookup(&L, x_near, l0);
@@ -603,15 +600,15 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
           n_sample += events * path_mid;
         }
         sl_eye_phase(m, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
-        sun_at_height(suntab, x[2], sunlight);
+        sl__sun_at_height(suntab, x[2], sunlight);
         const double opacity = -expm1(-beta * len);
-        const double depth = mid * dot3(rq, fwd);
+        const double depth = mid * sl__dot3(rq, fwd);
         float *a = acc + q * acc_stride;
         const double w = back_to_front ? 1.0 : a[nwl];
         for (int c = 0; c < nwl; ++c) {
           const double slab_extinction = kept[c] > 0.0 ? -log(kept[c]) / probe : beta;
           double moments[2];
-          scatter_over_segment(beta, len, 1.0 + slab_extinction / beta * light_rate, moments);
+          sl__scatter_over_segment(beta, len, 1.0 + slab_extinction / beta * light_rate, moments);
           const double gathered = exp(-slab_extinction * path_near) * (l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1]);
           /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
            * phase term (beta_sca Ams) over beta. */
@@ -641,7 +638,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
                              ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
         float beta_j[SL_MAX_FIELDS];
-        sample_fields(r, x, beta_j);
+        sl__sample_fields(r, x, beta_j);
         light_samples++;
         float *st = L.state + t * L.stride;
         double beta = 0.0;
@@ -660,27 +657,13 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
      * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
      * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame.
      * Spectral radiance becomes linear sRGB here. */
-    const double h_center = dot3(h, r->content_center);
+    const double h_center = sl__dot3(h, r->content_center);
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
-      const float *a = acc + q * acc_stride;
-      const float transparency = a[nwl];
-      double front[SL_MAX_WAVELENGTHS] = {0}, front_t[SL_MAX_WAVELENGTHS], spectrum[SL_MAX_WAVELENGTHS];
-      for (int c = 0; c < nwl; ++c) front_t[c] = 1.0;
-      if (sc->atmosphere && transparency < 1.0f) {
-        const double *rq = ray + q * 6;
-        double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
-        t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
-        sl_sky_view_segment(&view, rq, 0.0, t_mid, front, front_t);
-      }
-      for (int c = 0; c < nwl; ++c) spectrum[c] = front_t[c] * a[c] + (1.0 - transparency) * front[c];
-      double rgb[3];
-      sl_cie_apply(r->to_rgb, nwl, spectrum, rgb);
-      for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = (float)rgb[c];
-      img->rgba[4 * q + 3] = 1.0f - transparency;
-      img->transparency[q] = transparency;
-      const double coverage = 1.0 - transparency;
-      img->depth[q] = coverage > 1e-4 ? (float)(a[nwl + 1] / coverage) : INFINITY;
+      const double *rq = ray + q * 6;
+      double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
+      t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
+      sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, rq, t_mid, acc + q * acc_stride, img, q);
     }
   }
   if (stats) {
@@ -708,7 +691,7 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err))
     return err->code;
   double fwd[3], right[3], up[3];
-  if (camera_basis(cam, fwd, right, up))
+  if (sl__camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "background: camera position equals the target, or up is parallel to the view");
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
@@ -719,7 +702,7 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
     double L[SL_MAX_WAVELENGTHS], rgb[3];
     if (sc->atmosphere) {
       double d[3], sun_disk[SL_MAX_WAVELENGTHS];
-      pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
+      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
                 (int)(i / img->width), d);
       sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))

@@ -1,7 +1,9 @@
-// bench_render [STORM.nc] [--size N] [--slices N] [--repeat N]
-// Renders a storm with the CPU half-angle slicer and prints load / light pass / eye pass / write
-// times; then, in the same run, on the same grid at the same image size, times VTK's
-// vtkFixedPointVolumeRayCastMapper with shading, and prints the ratio.
+// bench_render [STORM.nc] [--grid N] [--repeat N] [--quick]
+// Times the CPU half-angle slicer: load, plan, light pass, eye pass, frame and EXR write, for the
+// low-albedo model and the multiple-scattering lighting at 3 and 16 wavelengths, at 512x512 with
+// 256 slices and 768x768 with 512 slices. With --grid N the storm is resampled (trilinearly) to
+// N^3 samples over its box first. In the same run, on the same grid at 512x512, it times VTK's
+// vtkFixedPointVolumeRayCastMapper with shading and prints the ratios.
 #include <omp.h>
 #include <vtkCamera.h>
 #include <vtkColorTransferFunction.h>
@@ -21,22 +23,94 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "cli.h"
 #include "sl_image_io.h"
+#include "sl_optics.h"
 #include "sl_renderer.h"
 #include "sl_storm.h"
+
+namespace {
+
+// Trilinear resampling of every field onto n^3 samples spanning the same box.
+bool resample(const sl_volume &in, int n, sl_volume *out)
+{
+  double lo[3], hi[3];
+  sl_volume_bounds(&in, lo, hi);
+  double origin[3], spacing[3];
+  for (int a = 0; a < 3; ++a) {
+    spacing[a] = (hi[a] - lo[a]) / n;
+    origin[a] = lo[a] + 0.5 * spacing[a];
+  }
+  sl_error err{};
+  if (sl_volume_init(out, n, n, n, origin, spacing, &err)) return false;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+    if (!in.eta[p]) continue;
+    if (sl_volume_add_field(out, (sl_particle)p, &err)) return false;
+    sl_grid_view g;
+    sl_grid_view_init(&g, in.eta[p], &in);
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const double x[3] = {origin[0] + i * spacing[0], origin[1] + j * spacing[1], origin[2] + k * spacing[2]};
+          out->eta[p][sl_volume_index(out, i, j, k)] = (float)sl_grid_sample(&g, x);
+        }
+  }
+  return true;
+}
+
+struct Timing {
+  double light = 1e30, eye = 1e30, frame = 1e30;
+  int slices = 0, lw = 0, lh = 0;
+};
+
+Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep)
+{
+  sl_error err{};
+  Timing t;
+  sl_renderer *r = sl_renderer_create(&sc, &err);
+  if (!r) {
+    std::fprintf(stderr, "bench_render: %s\n", err.message);
+    std::exit(1);
+  }
+  double lo[3], hi[3];
+  sl_renderer_content_bounds(r, lo, hi);
+  sl_camera cam;
+  sl_camera_frame(lo, hi, 200.0, 12.0, 40.0, size, size, &cam);
+  sl_image img;
+  sl_image_alloc(&img, size, size, &err);
+  for (int k = 0; k < repeat; ++k) {
+    sl_render_stats st{};
+    const double t0 = sl::now_seconds();
+    sl_renderer_render(r, &cam, &img, &st, &err);
+    t.frame = std::min(t.frame, sl::now_seconds() - t0);
+    t.light = std::min(t.light, st.light_seconds);
+    t.eye = std::min(t.eye, st.eye_seconds);
+    t.slices = st.slices, t.lw = st.light_width, t.lh = st.light_height;
+  }
+  if (keep) {
+    std::swap(*keep, img);
+  }
+  sl_image_free(&img);
+  sl_renderer_destroy(r);
+  return t;
+}
+
+}  // namespace
 
 int main(int argc, char **argv)
 {
   std::string storm = "datasets/cumulonimbus.nc";
-  int size = 512, slices = 256, repeat = 3;
+  int grid = 0, repeat = 3;
+  bool quick = false;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--slices") && i + 1 < argc) slices = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--grid") && i + 1 < argc) grid = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else storm = argv[i];
   }
   const int threads = omp_get_max_threads();
@@ -49,46 +123,91 @@ int main(int argc, char **argv)
     return 1;
   }
   const double t_load = sl::now_seconds() - t0;
-  sl_scene sc{};
-  sc.volume = &frame.volume;
-  sc.termination_transparency = 1e-6;
-  sc.slices = slices;
-  sl_sun_vector(240.0, 35.0, sc.sun_direction);
-  for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.05;
-  t0 = sl::now_seconds();
-  sl_renderer *r = sl_renderer_create(&sc, &err);
-  const double t_plan = sl::now_seconds() - t0;
-  double lo_box[3], hi_box[3];
-  sl_renderer_content_bounds(r, lo_box, hi_box);
-  sl_camera cam;
-  sl_camera_frame(lo_box, hi_box, 200.0, 12.0, 40.0, size, size, &cam);
-  sl_image img;
-  sl_image_alloc(&img, size, size, &err);
-  double best_light = 1e30, best_eye = 1e30, best_total = 1e30;
-  sl_render_stats st{};
-  for (int k = 0; k < repeat; ++k) {
+  sl_volume resampled{};
+  const sl_volume *vol = &frame.volume;
+  if (grid > 0) {
+    if (!resample(frame.volume, grid, &resampled)) return 1;
+    vol = &resampled;
+  }
+  std::printf("storm %s, grid %dx%dx%d, %d threads, best of %d frames\n", storm.c_str(), vol->nx, vol->ny, vol->nz,
+              threads, repeat);
+  std::printf("load %.3f s\n", t_load);
+
+  unsigned mask = 0;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    if (vol->eta[p]) mask |= 1u << p;
+  sl_atmosphere atm3, atm16;
+  double spectral[SL_SKY_SPECTRAL_COUNT];
+  sl_sky_spectral_wavelengths(spectral);
+  sl_atmosphere_init(&atm3, sl_sky_rgb_wavelengths_nm, 3, SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, &err);
+  sl_atmosphere_init(&atm16, spectral, SL_SKY_SPECTRAL_COUNT, SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, &err);
+  std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> opt3(nullptr, sl_optics_free), opt16(nullptr, sl_optics_free);
+  for (int s = 0; s < (quick ? 1 : 2); ++s) {
+    sl_optics_request req;
+    sl_optics_request_defaults(&req);
+    req.particles = mask;
+    sl_optics_request_wavelengths(&req, s ? "spectral16" : "rgb", &err);
     t0 = sl::now_seconds();
-    sl_renderer_render(r, &cam, &img, &st, &err);
-    best_total = std::min(best_total, sl::now_seconds() - t0);
-    best_light = std::min(best_light, st.light_seconds);
-    best_eye = std::min(best_eye, st.eye_seconds);
+    sl_optics_tables *t = sl_optics_build(&req, &err);
+    if (!t) {
+      std::fprintf(stderr, "bench_render: %s\n", err.message);
+      return 1;
+    }
+    std::printf("particle tables, %s: %.3f s (from the cache when it holds them)\n", s ? "16 wavelengths" : "3 wavelengths",
+                sl::now_seconds() - t0);
+    (s ? opt16 : opt3).reset(t);
+  }
+
+  struct Case {
+    const char *name;
+    sl_lighting lighting;
+    int spectral, size, slices;
+  };
+  std::vector<Case> cases = {{"low-albedo", SL_LIGHTING_LOW_ALBEDO, 0, 512, 256},
+                             {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 256},
+                             {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 512, 256},
+                             {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 768, 512},
+                             {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 768, 512}};
+  if (quick) cases.resize(2);
+  double frame_512_ms = 0.0;
+  sl_image keep{};
+  std::printf("%-18s %9s %7s %12s %10s %10s %10s %8s\n", "lighting", "image", "slices", "light buffer", "light s",
+              "eye s", "frame s", "fps");
+  for (const Case &c : cases) {
+    sl_scene sc{};
+    sc.volume = vol;
+    sc.atmosphere = c.spectral ? &atm16 : &atm3;
+    sc.optics = c.spectral ? opt16.get() : opt3.get();
+    sc.lighting = c.lighting;
+    sc.slices = c.slices;
+    sc.termination_transparency = 1e-6;
+    sl_sun_direction(35.0, 240.0, sc.sun_direction);
+    const Timing t = time_frames(sc, c.size, repeat, c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral ? &keep : nullptr);
+    if (c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral) frame_512_ms = 1e3 * t.frame;
+    char image[32], buffer[32];
+    std::snprintf(image, sizeof image, "%dx%d", c.size, c.size);
+    std::snprintf(buffer, sizeof buffer, "%dx%d", t.lw, t.lh);
+    std::printf("%-18s %9s %7d %12s %10.3f %10.3f %10.3f %8.2f\n", c.name, image, t.slices, buffer, t.light, t.eye,
+                t.frame, 1.0 / t.frame);
   }
   t0 = sl::now_seconds();
-  sl_write_exr("/tmp/bench_render.exr", &img, SL_EXR_HALF, &err);
-  const double t_write = sl::now_seconds() - t0;
+  sl_write_exr("/tmp/bench_render.exr", &keep, SL_EXR_HALF, &err);
+  std::printf("write EXR 512x512: %.3f s\n", sl::now_seconds() - t0);
+  sl_image_free(&keep);
 
-  // The peer: VTK's CPU ray caster with shading on the same grid (total extinction as scalars).
-  std::vector<float> beta(sl_volume_count(&frame.volume));
-  sl_total_extinction(&frame.volume, beta.data(), &err);
+  // The peer: VTK's CPU ray caster with shading on the same grid (total extinction as scalars),
+  // the same camera and as many samples along a ray as slices across the box.
+  std::vector<float> beta(sl_volume_count(vol));
+  sl_total_extinction(vol, beta.data(), &err);
   const float beta_max = *std::max_element(beta.begin(), beta.end());
-  vtkNew<vtkImageData> grid;
-  grid->SetDimensions(frame.volume.nx, frame.volume.ny, frame.volume.nz);
-  grid->SetOrigin(frame.volume.origin);
-  grid->SetSpacing(frame.volume.spacing);
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(vol->nx, vol->ny, vol->nz);
+  image->SetOrigin(vol->origin[0], vol->origin[1], vol->origin[2]);
+  image->SetSpacing(vol->spacing[0], vol->spacing[1], vol->spacing[2]);
   vtkNew<vtkFloatArray> scalars;
   scalars->SetNumberOfTuples((vtkIdType)beta.size());
   for (size_t i = 0; i < beta.size(); ++i) scalars->SetValue((vtkIdType)i, beta[i]);
-  grid->GetPointData()->SetScalars(scalars);
+  image->GetPointData()->SetScalars(scalars);
   vtkNew<vtkPiecewiseFunction> opacity;
   opacity->AddPoint(0.0, 0.0);
   opacity->AddPoint(0.01 * beta_max, 0.5);
@@ -102,19 +221,15 @@ int main(int argc, char **argv)
   prop->ShadeOn();
   prop->SetInterpolationTypeToLinear();
   vtkNew<vtkFixedPointVolumeRayCastMapper> mapper;
-  mapper->SetInputData(grid);
+  mapper->SetInputData(image);
   mapper->SetNumberOfThreads(threads);
-  // The same number of samples along a ray as slices across the box: world-unit sample spacing
-  // of the box diagonal over the slice count (VTK's default of 1 unit would mean 1 m here).
   double diagonal = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const int n = a == 0 ? frame.volume.nx : a == 1 ? frame.volume.ny : frame.volume.nz;
-    diagonal += (n * frame.volume.spacing[a]) * (n * frame.volume.spacing[a]);
-  }
+  const int n[3] = {vol->nx, vol->ny, vol->nz};
+  for (int a = 0; a < 3; ++a) diagonal += (n[a] * vol->spacing[a]) * (n[a] * vol->spacing[a]);
   diagonal = std::sqrt(diagonal);
   mapper->SetAutoAdjustSampleDistances(0);
-  mapper->SetSampleDistance(diagonal / st.slices);
-  mapper->SetInteractiveSampleDistance(diagonal / st.slices);
+  mapper->SetSampleDistance(diagonal / 256);
+  mapper->SetInteractiveSampleDistance(diagonal / 256);
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(prop);
@@ -122,8 +237,19 @@ int main(int argc, char **argv)
   ren->AddVolume(volume);
   vtkNew<vtkRenderWindow> win;
   win->SetOffScreenRendering(1);
-  win->SetSize(size, size);
+  win->SetSize(512, 512);
   win->AddRenderer(ren);
+  double blo[3], bhi[3];
+  {
+    sl_scene sc{};
+    sc.volume = vol;
+    sl_sun_direction(35.0, 240.0, sc.sun_direction);
+    sl_renderer *r = sl_renderer_create(&sc, &err);
+    sl_renderer_content_bounds(r, blo, bhi);
+    sl_renderer_destroy(r);
+  }
+  sl_camera cam;
+  sl_camera_frame(blo, bhi, 200.0, 12.0, 40.0, 512, 512, &cam);
   vtkCamera *c = ren->GetActiveCamera();
   c->SetPosition(cam.position);
   c->SetFocalPoint(cam.target);
@@ -140,17 +266,12 @@ int main(int argc, char **argv)
     win->Render();
     vtk_best = std::min(vtk_best, sl::now_seconds() - t0);
   }
-  std::printf("storm %s: grid %dx%dx%d, image %dx%d, %d slices, light buffer %dx%d, %d threads\n", storm.c_str(),
-              frame.volume.nx, frame.volume.ny, frame.volume.nz, size, size, st.slices, st.light_width,
-              st.light_height, threads);
-  std::printf("stormlight: load %.3f s, plan %.3f s, light pass %.3f s, eye pass %.3f s, frame %.3f s (best of %d), "
-              "write EXR %.3f s\n",
-              t_load, t_plan, best_light, best_eye, best_total, repeat, t_write);
-  std::printf("vtkFixedPointVolumeRayCastMapper (shading on): first frame %.3f s, frame %.3f s (best of %d)\n",
-              vtk_first, vtk_best, repeat);
-  std::printf("ratio stormlight frame / VTK frame: %.2f\n", best_total / vtk_best);
-  sl_image_free(&img);
-  sl_renderer_destroy(r);
+  std::printf("vtkFixedPointVolumeRayCastMapper (shading on, 512x512, 256 samples across): first frame %.3f s, frame "
+              "%.3f s\n",
+              vtk_first, vtk_best);
+  std::printf("ratio stormlight multiple/3 wl frame (512x512, 256 slices) / VTK frame: %.2f\n",
+              frame_512_ms / 1e3 / vtk_best);
+  sl_volume_free(&resampled);
   sl_storm_frame_free(&frame);
   return 0;
 }

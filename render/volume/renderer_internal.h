@@ -1,0 +1,55 @@
+/* Internals shared by the two eye passes of render/volume: the half-angle slicer (renderer.c)
+ * and the ray marcher over a cached light volume (light_volume.c). Not a public header. */
+#ifndef SL_RENDERER_INTERNAL_H
+#define SL_RENDERER_INTERNAL_H
+
+#include <stddef.h>
+
+#include "lighting.h"
+#include "sl_renderer.h"
+
+struct sl_renderer {
+  sl_scene scene;
+  sl_volume shape;      /* the lattice of the volume, without fields */
+  float *beta;          /* total extinction, m^-1 */
+  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
+  sl_light_model model;
+  double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
+  int spectral;
+  sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
+  double lo[3], hi[3];  /* the volume's box */
+  double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
+                               slices, light buffer and rays are clipped to it (empty-space skipping
+                               at the coarsest level) */
+  double content_center[3]; /* its centre: the midplane's anchor */
+  int any_extinction;
+};
+
+/* Sunlight reaching height z through the air (Riley eq. 12 with the view's air mass), tabulated
+ * over the box's heights once per frame so the eye pass only interpolates. */
+#define SUN_TABLE_SIZE 257
+typedef struct sun_table {
+  int nwl;
+  double z0, dz;
+  double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
+} sun_table;
+
+double sl__dot3(const double a[3], const double b[3]);
+void sl__cross3(const double a[3], const double b[3], double out[3]);
+int sl__normalize3(double v[3]);
+void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi);
+void sl__sun_at_height(const sun_table *t, double z, double *out);
+/* Parametric interval [t0, t1] where the ray o + t d lies in the box; 0 when it misses. */
+int sl__ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0, double *t1);
+double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
+void sl__scatter_over_segment(double beta, double len, double rate, double m[2]);
+int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
+int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
+void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
+                   int width, int height, int px, int py, double d[3]);
+/* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth
+ * numerator): the aerial perspective in front of t_mid, the spectral-to-RGB conversion. */
+void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
+                       const float *a, sl_image *img, size_t q);
+
+#endif
