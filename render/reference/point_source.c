@@ -13,7 +13,8 @@
 #include "sl_legendre.h"
 
 #define CHUNK 1024
-#define ROULETTE_WEIGHT 0.1
+/* Low: a small-albedo medium must still carry its photons to a second scattering. */
+#define ROULETTE_WEIGHT 1e-3
 
 void sl_ref_point_options_defaults(sl_ref_point_options *o)
 {
