@@ -194,7 +194,9 @@ int sl_apsf_profile_build(sl_apsf_profile *p, const sl_apsf_medium *m, double T,
   x = x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
   const double w = x * x * (3.0 - 2.0 * x);
   p->blend = w;
-  p->direct = (1.0 - w) * exp(-T);
+  p->direct = exp(-T); /* Narasimhan et al., eq. 30: the attenuated Dirac */
+  const double s_frac = 1.0 - exp((3.0 * (1.0 - m->albedo) - 1.0) * T);
+  p->series_scale = s_frac > 0.0 ? s_frac : 0.0;
   p->gamma_max = gamma_max;
   p->weight = malloc(sizeof(double) * (size_t)n_samples);
   if (!p->weight) return sl_fail(err, SL_ERR_NOMEM, "apsf: out of memory for the profile");
@@ -211,7 +213,7 @@ int sl_apsf_profile_build(sl_apsf_profile *p, const sl_apsf_medium *m, double T,
     const double u = (double)i / (n_samples - 1);
     double gamma = gamma_max * u * u;
     double S = 0.0;
-    if (w > 0.0) S += w * sl_apsf_series_eval(&s, cos(gamma));
+    if (w > 0.0) S += w * p->series_scale * sl_apsf_series_eval(&s, cos(gamma));
     if (w < 1.0) {
       /* The single-scattering 1/gamma spike at the source is flattened below the first sample. */
       if (i == 0) gamma = 0.5 * gamma_max / ((double)(n_samples - 1) * (n_samples - 1));

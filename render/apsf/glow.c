@@ -35,7 +35,7 @@ typedef struct kernel_model {
   double near[NEAR][NEAR]; /* |dx|, |dy| < 6, Dirac included */
   double radial[NR];
   double inv_r_table, scale;
-  double T, blend, direct;
+  double T, blend, direct, series_scale;
   int terms;
 } kernel_model;
 
@@ -52,6 +52,7 @@ static int model_build(kernel_model *km, const sl_apsf_medium *m, double T, doub
   km->T = T;
   km->blend = prof.blend;
   km->direct = prof.direct;
+  km->series_scale = prof.series_scale;
   km->terms = prof.terms;
   km->inv_r_table = 1.0 / r_max;
   for (int i = 0; i < NR; ++i) {
@@ -109,6 +110,7 @@ int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, d
   k->T = T;
   k->blend = km->blend;
   k->direct = km->direct;
+  k->series_scale = km->series_scale;
   k->terms = km->terms;
   double sum = 0.0;
   for (int dy = -ry; dy <= ry; ++dy)
@@ -364,7 +366,9 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
   float *glow[3] = {planes + 3 * npx, planes + 4 * npx, planes + 5 * npx};
   /* Layers evenly spaced in log T; a source between two layers feeds both with linear weights
    * in log T, so its glow changes continuously with its depth. */
-  const int L = sources ? (Tmax > Tmin * (1.0 + 1e-9) ? p->n_layers : 1) : 0;
+  /* At most n_layers, and none closer than 2 % in T: the PSF hardly changes within that. */
+  int L = sources ? 1 + (int)ceil(log(Tmax / Tmin) / log(1.02) - 1e-9) : 0;
+  if (L > p->n_layers) L = p->n_layers;
   const double lmin = sources ? log(Tmin) : 0.0, lstep = L > 1 ? (log(Tmax) - lmin) / (L - 1) : 1.0;
   /* The convolution is linear: the layers' products are summed in the frequency domain and
    * each channel goes back once, so a layer costs one kernel and three forward transforms. */
@@ -422,7 +426,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       for (int c = 0; c < 3; ++c) {
         double base = px[c];
         if (is_source) {
-          base = 0.0; /* all of it is in the glow, the unscattered beam included */
+          base = 0.0; /* all of it is in the glow, the unscattered beam included (the kernel's Dirac) */
         } else if (T > 0.0 && p->attenuate) {
           const double t = exp(-T);
           base = px[c] * t + p->airlight[c] * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */

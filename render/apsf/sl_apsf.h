@@ -84,13 +84,19 @@ static inline double sl_apsf_fluence_weight(double T, double S) { return T * T *
 /* The angular profile a camera sees at optical distance T in every regime, tabulated in
  * gamma (the angle from the source direction; mu = cos gamma for a camera inside the medium):
  *   weight(gamma) = T^2 S_eff(T, gamma) / (4 pi),   plus a Dirac of weight `direct` at gamma = 0,
- *   S_eff = w S_series + (1 - w) S_single,   direct = (1 - w) e^{-T},
- *   w = smoothstep((T - SL_APSF_BLEND_LO) / (SL_APSF_BLEND_HI - SL_APSF_BLEND_LO)). */
+ *   S_eff = w s S_series + (1 - w) S_single,   direct = e^{-T},
+ *   w = smoothstep((T - SL_APSF_BLEND_LO) / (SL_APSF_BLEND_HI - SL_APSF_BLEND_LO)),
+ *   s = max(0, 1 - e^{-T} / e^{-3 (1 - W0) T}).
+ * The unscattered beam is explicit in every regime: the series has no Dirac (its forward peak
+ * is smooth), so on a pixel grid it would spread the sharp e^{-T} of the source into a blur and
+ * darken the source below its attenuated surroundings. s takes that share out of the series,
+ * so the total fluence stays the series' e^{-3 (1 - W0) T} (docs/APSF.md, "Direct beam"). */
 typedef struct sl_apsf_profile {
   double T, blend, direct;
+  double series_scale; /* s above */
   int n;            /* samples over [0, gamma_max], uniform in sqrt(gamma) to resolve the peak */
   double gamma_max;
-  double *weight;   /* n samples of the fluence weight (1/sr) */
+  double *weight;   /* n samples of the fluence weight (1/sr), the Dirac excluded */
   int terms;        /* series terms used (0 below the blend) */
 } sl_apsf_profile;
 

@@ -32,7 +32,7 @@ typedef struct sl_glow_kernel {
   int rx, ry;
   double *w;
   double sum;      /* sum of w */
-  double T, blend, direct;
+  double T, blend, direct, series_scale; /* as in sl_apsf_profile */
   int terms;
 } sl_glow_kernel;
 
@@ -65,7 +65,8 @@ typedef struct sl_glow_params {
                            neither sources nor attenuated (the sky is outside the medium) */
   double fov_y_deg;     /* vertical field of view of the pinhole that made the image */
   double threshold;     /* a pixel is a source when its largest RGB value reaches this */
-  int n_layers;         /* depth layers, 1..64, spaced evenly in log T over the sources */
+  int n_layers;         /* at most this many depth layers (1..64), evenly spaced in log T over the
+                           sources and no closer than 2 % in T */
   sl_glow_norm norm;
   int attenuate;        /* eq. 30: e^{-T} on pixels that are not sources */
   double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources */

@@ -1,0 +1,240 @@
+// stormlight apsf: the atmospheric point spread function of Narasimhan, Ramamoorthi and Nayar
+// at chosen angles (--json for scripts), or a plot of it for the paper's Fig. 2/3 parameter
+// ranges drawn with VTK's charts. Computes nothing itself: everything comes from render/apsf.
+#include <cjson/cJSON.h>
+
+#include <vtkAxis.h>
+#include <vtkChartLegend.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPlot.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkTable.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "commands.h"
+#include "sl_apsf.h"
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+const char *kCmd = "apsf";
+const double kReferenceDeg = 1.0; /* psf reference angle below T = 1.5 */
+
+// Fluence weight (1/sr, sl_apsf.h) at each angle, plus the Dirac's weight and the term count.
+struct Psf {
+  std::vector<double> weight;
+  double direct = 0.0, blend = 1.0, forward = 0.0;
+  int terms = 0;
+};
+
+bool evaluate(const sl_apsf_medium &m, double T, double tolerance, const std::vector<double> &angles_deg, Psf *out,
+              std::string *why, bool series_only = false)
+{
+  sl_error err{};
+  out->weight.assign(angles_deg.size(), 0.0);
+  if (T >= SL_APSF_BLEND_HI || series_only) {
+    // The series regime: exact evaluation, no table.
+    sl_apsf_series s;
+    if (sl_apsf_series_init(&s, &m, T, tolerance, 0, &err)) {
+      *why = err.message;
+      return false;
+    }
+    for (size_t i = 0; i < angles_deg.size(); ++i)
+      out->weight[i] = sl_apsf_fluence_weight(T, sl_apsf_series_eval(&s, std::cos(angles_deg[i] * kPi / 180.0)));
+    out->forward = sl_apsf_fluence_weight(T, sl_apsf_series_eval(&s, 1.0));
+    out->terms = s.terms;
+    sl_apsf_series_free(&s);
+    return true;
+  }
+  sl_apsf_profile p;
+  if (sl_apsf_profile_build(&p, &m, T, tolerance, kPi, 16384, &err)) {
+    *why = err.message;
+    return false;
+  }
+  for (size_t i = 0; i < angles_deg.size(); ++i) out->weight[i] = sl_apsf_profile_eval(&p, angles_deg[i] * kPi / 180.0);
+  // Single scattering diverges as 1/gamma at the source: the reference is 1 degree instead.
+  out->forward = sl_apsf_profile_eval(&p, kReferenceDeg * kPi / 180.0);
+  out->direct = p.direct;
+  out->blend = p.blend;
+  out->terms = p.terms;
+  sl_apsf_profile_free(&p);
+  return true;
+}
+
+bool read_medium(sl::Options &o, sl_apsf_medium *m, double *tolerance, std::string *why)
+{
+  double q, albedo;
+  if (!o.number("q", &q) || !o.number("albedo", &albedo) || !o.number("tolerance", tolerance)) {
+    *why = o.error();
+    return false;
+  }
+  if (!(q > -1.0 && q < 1.0)) *why = "--q must be in (-1, 1)";
+  else if (!(albedo > 0.0 && albedo <= 1.0)) *why = "--albedo must be in (0, 1]";
+  else if (!(*tolerance > 0.0 && *tolerance < 0.1)) *why = "--tolerance must be in (0, 0.1)";
+  if (!why->empty()) return false;
+  *m = sl_apsf_medium{albedo, q, nullptr, 0};
+  return true;
+}
+
+const char *kNormalisation =
+    "psf: fluence weight relative to its value at psf_reference_deg (0, the forward direction, in the series regime; 1 "
+    "degree below T = 1.5, where single scattering diverges as 1/gamma at the source); fluence_weight: T^2 S / (4 pi) "
+    "per sr, the radiance relative to the vacuum fluence I0/R^2 of the source (the series' integral over the sphere is "
+    "exp(-3(1-W0)T)); direct: the weight of the unscattered Dirac at gamma = 0 (below T = 1.5 only)";
+
+int plot(sl::Options &o)
+{
+  if (!o.has("out")) return sl::fail(kCmd, "--plot needs --out FILE.png", 2);
+  sl_apsf_medium m;
+  double tolerance;
+  std::string why;
+  if (!read_medium(o, &m, &tolerance, &why)) return sl::fail(kCmd, why, 2);
+  std::vector<double> size;
+  if (!o.list("size", &size)) return sl::fail(kCmd, o.error(), 2);
+  if (size.size() != 2 || size[0] < 200 || size[1] < 150 || size[0] > 8000 || size[1] > 8000)
+    return sl::fail(kCmd, "--size needs W,H between 200x150 and 8000x8000", 2);
+  // The paper's Figs. 2-4 range: T from just above 1 (hundreds of terms) to 4 and more.
+  const double Ts[8] = {1.02, 1.1, 1.2, 1.5, 2.0, 3.0, 4.0, 6.0};
+  static const unsigned char kColour[8][3] = {{120, 0, 160}, {60, 60, 220}, {0, 140, 220}, {0, 160, 120},
+                                              {90, 170, 0},  {220, 160, 0}, {230, 90, 0},  {200, 0, 40}};
+  const int n_points = 721;
+  std::vector<double> angles(n_points);
+  for (int i = 0; i < n_points; ++i) angles[i] = 180.0 * i / (n_points - 1);
+  vtkNew<vtkTable> table;
+  vtkNew<vtkDoubleArray> xs;
+  xs->SetName("angle from the source (degrees)");
+  xs->SetNumberOfValues(n_points);
+  for (int i = 0; i < n_points; ++i) xs->SetValue(i, angles[i]);
+  table->AddColumn(xs);
+  for (double T : Ts) {
+    Psf psf;
+    // The paper's series itself, also below T = 1.5 where 'glow' blends in single scattering.
+    if (!evaluate(m, T, tolerance, angles, &psf, &why, true)) return sl::fail(kCmd, why);
+    vtkNew<vtkDoubleArray> ys;
+    char label[64];
+    std::snprintf(label, sizeof label, "T = %.2f (%d terms)", T, psf.terms);
+    ys->SetName(label);
+    ys->SetNumberOfValues(n_points);
+    for (int i = 0; i < n_points; ++i) ys->SetValue(i, std::max(1e-6, psf.weight[i] / psf.forward));
+    table->AddColumn(ys);
+  }
+  vtkNew<vtkContextView> view;
+  view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetSize((int)size[0], (int)size[1]);
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetShowLegend(true);
+  char title[160];
+  std::snprintf(title, sizeof title, "Narasimhan et al. eq. 27 (the series alone), q = %.2f, albedo %.2f, relative to forward",
+                m.q, m.albedo);
+  chart->SetTitle(title);
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle("PSF / PSF(0)");
+  chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("angle from the source (degrees)");
+  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(0.0, 180.0);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
+  for (int k = 0; k < 8; ++k) {
+    vtkPlot *line = chart->AddPlot(vtkChart::LINE);
+    line->SetInputData(table, 0, k + 1);
+    line->SetColor(kColour[k][0], kColour[k][1], kColour[k][2], 255);
+    line->SetWidth(1.5);
+  }
+  view->GetRenderWindow()->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(view->GetRenderWindow());
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  const std::string out = o.str("out"), tmp = out + ".tmp.png";
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(tmp.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || std::rename(tmp.c_str(), out.c_str()) != 0) {
+    unlink(tmp.c_str());
+    return sl::fail(kCmd, "cannot write " + out);
+  }
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int sl_cmd_apsf(int argc, char **argv)
+{
+  sl::Options o(kCmd, "--T T --q Q [--albedo W0] [--angles A,B,...] [--tolerance E] [--json] | --plot --out FILE.png",
+                "The light field of an isotropic point source in a homogeneous medium at optical distance T\n"
+                "(Narasimhan, Ramamoorthi and Nayar, eq. 27) against the angle from the source direction, for a\n"
+                "Henyey-Greenstein medium of parameter q and single-scattering albedo W0. Below T = 1.05 the series\n"
+                "diverges and single scattering plus the attenuated direct beam is used; up to T = 1.5 the two are\n"
+                "blended (docs/APSF.md). With --plot, PSFs for T from 1.02 to 6 drawn with VTK's charts.");
+  o.option("T", "T", "optical thickness sigma * R between source and observer (> 0)");
+  o.option("q", "Q", "Henyey-Greenstein forward-scattering parameter, (-1, 1)", "0.9");
+  o.option("albedo", "W0", "single-scattering albedo, (0, 1]", "1");
+  o.option("angles", "A,B,...", "angles from the source direction in degrees", "0,1,2,5,10,20,30,45,60,90,120,150,180");
+  o.option("tolerance", "E", "series truncation error as a fraction of the forward value", "1e-6");
+  o.flag("json", "print one JSON object");
+  o.flag("plot", "draw PSFs for the paper's range of T with VTK's charts (needs --out)");
+  o.option("out", "FILE.png", "with --plot: the image to write");
+  o.option("size", "W,H", "with --plot: image size in pixels", "1000,650");
+  const int early = sl::parse_or_exit(o, argc, argv);
+  if (early >= 0) return early;
+  if (o.has("plot")) return plot(o);
+  if (!o.has("T")) return sl::fail(kCmd, "missing --T (optical thickness)", 2);
+  double T, tolerance;
+  std::vector<double> angles;
+  sl_apsf_medium m;
+  std::string why;
+  if (!o.number("T", &T) || !o.list("angles", &angles)) return sl::fail(kCmd, o.error(), 2);
+  if (!(T > 0.0 && std::isfinite(T))) return sl::fail(kCmd, "--T must be > 0", 2);
+  if (!read_medium(o, &m, &tolerance, &why)) return sl::fail(kCmd, why, 2);
+  for (double a : angles)
+    if (!(a >= 0.0 && a <= 180.0)) return sl::fail(kCmd, "--angles must lie in 0..180 degrees", 2);
+  Psf psf;
+  if (!evaluate(m, T, tolerance, angles, &psf, &why)) return sl::fail(kCmd, why, 2);
+  std::vector<double> relative(angles.size());
+  for (size_t i = 0; i < angles.size(); ++i) relative[i] = psf.forward > 0 ? psf.weight[i] / psf.forward : 0.0;
+  const char *regime = psf.blend >= 1.0 ? "series" : (psf.blend <= 0.0 ? "single scattering" : "blend");
+  if (o.has("json")) {
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "T", T);
+    cJSON_AddNumberToObject(root, "q", m.q);
+    cJSON_AddNumberToObject(root, "albedo", m.albedo);
+    cJSON_AddNumberToObject(root, "terms", psf.terms);
+    cJSON_AddNumberToObject(root, "tolerance", tolerance);
+    cJSON_AddStringToObject(root, "regime", regime);
+    cJSON_AddItemToObject(root, "angles_deg", cJSON_CreateDoubleArray(angles.data(), (int)angles.size()));
+    cJSON_AddItemToObject(root, "psf", cJSON_CreateDoubleArray(relative.data(), (int)relative.size()));
+    cJSON_AddNumberToObject(root, "psf_reference_deg", psf.blend >= 1.0 ? 0.0 : kReferenceDeg);
+    cJSON_AddItemToObject(root, "fluence_weight", cJSON_CreateDoubleArray(psf.weight.data(), (int)psf.weight.size()));
+    cJSON_AddNumberToObject(root, "direct", psf.direct);
+    cJSON_AddStringToObject(root, "normalisation", kNormalisation);
+    char *text = cJSON_PrintUnformatted(root);
+    std::printf("%s\n", text);
+    std::free(text);
+    cJSON_Delete(root);
+  } else {
+    std::printf("T %.6g  q %.6g  albedo %.6g  %s, %d terms (tolerance %g); psf relative to %g degrees\n", T, m.q,
+                m.albedo, regime, psf.terms, tolerance, psf.blend >= 1.0 ? 0.0 : kReferenceDeg);
+    if (psf.direct > 0) std::printf("unscattered Dirac at the source: weight %.6g\n", psf.direct);
+    for (size_t i = 0; i < angles.size(); ++i)
+      std::printf("  %7.2f deg  psf %.9g  fluence weight %.9g /sr\n", angles[i], relative[i], psf.weight[i]);
+  }
+  return 0;
+}
