@@ -99,6 +99,7 @@ int sl_cmd_render(int argc, char **argv)
   o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr", "0");
   o.option("wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
            "rgb");
+  o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");
   o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
   o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
   o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");
@@ -250,6 +251,7 @@ int sl_cmd_render(int argc, char **argv)
   scene.optics = optics.get();
   scene.lighting = lighting;
   scene.xi = xi;
+  scene.light_volume = o.has("light-volume") ? 1 : 0;
   sl_sun_direction(sun_el, sun_az, scene.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) {
     scene.sun_irradiance[c] = 1.0;

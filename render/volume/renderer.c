@@ -206,6 +206,7 @@ void sl_renderer_destroy(sl_renderer *r)
   sl_light_model_free(&r->model);
   free(r->beta);
   free(r->fields);
+  free(r->light_volume);
   free(r);
 }
 
@@ -397,6 +398,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   double fwd[3], right[3], up[3];
   if (sl__camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
+  if (r->scene.light_volume && r->any_extinction) return sl__render_with_light_volume(r, cam, img, stats, err);
 
   const sl_scene *sc = &r->scene;
   const double *sun = sc->sun_direction;

@@ -16,6 +16,8 @@ struct sl_renderer {
   sl_light_model model;
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
   int spectral;
+  float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
+  double light_volume_seconds;
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */
   double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
@@ -51,5 +53,9 @@ void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3
  * numerator): the aerial perspective in front of t_mid, the spectral-to-RGB conversion. */
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
                        const float *a, sl_image *img, size_t q);
+
+/* The eye pass of the cached light volume (light_volume.c). */
+int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,
+                                 sl_error *err);
 
 #endif

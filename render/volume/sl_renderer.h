@@ -52,6 +52,10 @@ typedef struct sl_scene {
   /* Front-to-back rays stop once their transparency falls below this (0: never). What is lost is
    * at most this fraction of what lies behind. */
   double termination_transparency;
+  /* 1: light the volume once into a cached, view-independent light volume on the grid and draw
+   * frames with a ray-marching eye pass (camera moves then cost only that pass); 0: half-angle
+   * slicing per frame, the paper's method. */
+  int light_volume;
   /* Called from one thread after each slice with the fraction done; may be NULL. */
   void (*progress)(void *user, double fraction);
   void *progress_user;
@@ -84,6 +88,10 @@ void sl_renderer_destroy(sl_renderer *r);
 /* img must be allocated at camera->width x camera->height. */
 int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, sl_render_stats *stats,
                        sl_error *err);
+
+/* Builds (or rebuilds) the cached light volume for the scene's sun; sl_renderer_render builds it
+ * on first use when the scene asks for it. */
+int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 
 /* The background behind and around the volume for this camera, opaque, depth +inf: the whole
  * ray's sky plus the sun's disk (or the constant sky without an atmosphere). The volume layer
