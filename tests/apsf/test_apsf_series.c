@@ -151,6 +151,7 @@ static void test_term_counts(void)
       char what[96];
       snprintf(what, sizeof what, "T %.3g q %.1f: %d terms for 0.1 %% of the 500-term sum (paper: < 10)", T, qs[j], n);
       CHECK_MSG(n < 10, what);
+      printf("%s\n", what);
     }
   const int n = paper_term_count(1.02, 0.9);
   printf("T 1.02 q 0.9: %d terms for 0.1 %% of the 500-term sum (paper: about 200)\n", n);
