@@ -29,6 +29,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "sl_apsf.h"
+#include "sl_optics.h"
 
 namespace {
 
@@ -77,7 +78,18 @@ bool evaluate(const sl_apsf_medium &m, double T, double tolerance, const std::ve
   return true;
 }
 
-bool read_medium(sl::Options &o, sl_apsf_medium *m, double *tolerance, std::string *why)
+void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
+
+// The medium: Henyey-Greenstein (--q, --albedo) or, with --particle, the moments and albedo of a
+// render/optics table at --wavelength (tables are cached on disk by render/optics).
+struct Medium {
+  sl_apsf_medium m{1.0, 0.9, nullptr, 0};
+  sl_optics_tables *tables = nullptr;
+  std::string label;
+  ~Medium() { sl_optics_free(tables); }
+};
+
+bool read_medium(sl::Options &o, Medium *med, double *tolerance, std::string *why)
 {
   double q, albedo;
   if (!o.number("q", &q) || !o.number("albedo", &albedo) || !o.number("tolerance", tolerance)) {
@@ -88,7 +100,37 @@ bool read_medium(sl::Options &o, sl_apsf_medium *m, double *tolerance, std::stri
   else if (!(albedo > 0.0 && albedo <= 1.0)) *why = "--albedo must be in (0, 1]";
   else if (!(*tolerance > 0.0 && *tolerance < 0.1)) *why = "--tolerance must be in (0, 0.1)";
   if (!why->empty()) return false;
-  *m = sl_apsf_medium{albedo, q, nullptr, 0};
+  med->m = sl_apsf_medium{albedo, q, nullptr, 0};
+  char label[96];
+  std::snprintf(label, sizeof label, "HG q = %.3g, albedo %.3g", q, albedo);
+  med->label = label;
+  if (!o.has("particle")) return true;
+  const int p = sl_particle_from_name(o.str("particle").c_str());
+  double nm;
+  if (p < 0) *why = "--particle must be cloud, rain, ice or snow";
+  else if (!o.number("wavelength", &nm)) *why = o.error();
+  else if (!(nm >= 300 && nm <= 1000)) *why = "--wavelength must be in 300..1000 nm";
+  if (!why->empty()) return false;
+  sl_optics_request req;
+  sl_optics_request_defaults(&req);
+  req.particles = 1u << p;
+  req.n_wavelengths = 1;
+  req.wavelengths_nm[0] = nm;
+  sl::Progress bar("optics tables", true);
+  req.progress = progress_hook;
+  req.progress_user = &bar;
+  sl_error err{};
+  med->tables = sl_optics_build(&req, &err);
+  bar.done();
+  if (!med->tables) {
+    *why = err.message;
+    return false;
+  }
+  const sl_phase_table *t = sl_optics_table(med->tables, (sl_particle)p, 0);
+  med->m = sl_apsf_medium{t->albedo, t->moments[1], t->moments, t->n_moments};
+  std::snprintf(label, sizeof label, "%s %.0f nm: g = %.4f, albedo %.6f", o.str("particle").c_str(), nm, t->moments[1],
+                t->albedo);
+  med->label = label;
   return true;
 }
 
@@ -101,10 +143,11 @@ const char *kNormalisation =
 int plot(sl::Options &o)
 {
   if (!o.has("out")) return sl::fail(kCmd, "--plot needs --out FILE.png", 2);
-  sl_apsf_medium m;
+  Medium med;
   double tolerance;
   std::string why;
-  if (!read_medium(o, &m, &tolerance, &why)) return sl::fail(kCmd, why, 2);
+  if (!read_medium(o, &med, &tolerance, &why)) return sl::fail(kCmd, why, 2);
+  const sl_apsf_medium &m = med.m;
   std::vector<double> size;
   if (!o.list("size", &size)) return sl::fail(kCmd, o.error(), 2);
   if (size.size() != 2 || size[0] < 200 || size[1] < 150 || size[0] > 8000 || size[1] > 8000)
@@ -142,8 +185,8 @@ int plot(sl::Options &o)
   view->GetScene()->AddItem(chart);
   chart->SetShowLegend(true);
   char title[160];
-  std::snprintf(title, sizeof title, "Narasimhan et al. eq. 27 (the series alone), q = %.2f, albedo %.2f, relative to forward",
-                m.q, m.albedo);
+  std::snprintf(title, sizeof title, "Narasimhan et al. eq. 27 (the series alone), %s, relative to forward",
+                med.label.c_str());
   chart->SetTitle(title);
   chart->GetAxis(vtkAxis::LEFT)->SetTitle("PSF / PSF(0)");
   chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
@@ -181,12 +224,15 @@ int sl_cmd_apsf(int argc, char **argv)
   sl::Options o(kCmd, "--T T --q Q [--albedo W0] [--angles A,B,...] [--tolerance E] [--json] | --plot --out FILE.png",
                 "The light field of an isotropic point source in a homogeneous medium at optical distance T\n"
                 "(Narasimhan, Ramamoorthi and Nayar, eq. 27) against the angle from the source direction, for a\n"
-                "Henyey-Greenstein medium of parameter q and single-scattering albedo W0. Below T = 1.05 the series\n"
+                "Henyey-Greenstein medium of parameter q and single-scattering albedo W0 (or, with --particle, the\n"
+                "phase moments and albedo of render/optics' particle tables). Below T = 1.05 the series\n"
                 "diverges and single scattering plus the attenuated direct beam is used; up to T = 1.5 the two are\n"
                 "blended (docs/APSF.md). With --plot, PSFs for T from 1.02 to 6 drawn with VTK's charts.");
   o.option("T", "T", "optical thickness sigma * R between source and observer (> 0)");
   o.option("q", "Q", "Henyey-Greenstein forward-scattering parameter, (-1, 1)", "0.9");
   o.option("albedo", "W0", "single-scattering albedo, (0, 1]", "1");
+  o.option("particle", "NAME", "instead of --q/--albedo: the render/optics table of cloud, rain, ice or snow");
+  o.option("wavelength", "NM", "with --particle: the wavelength of the table", "515");
   o.option("angles", "A,B,...", "angles from the source direction in degrees", "0,1,2,5,10,20,30,45,60,90,120,150,180");
   o.option("tolerance", "E", "series truncation error as a fraction of the forward value", "1e-6");
   o.flag("json", "print one JSON object");
@@ -199,13 +245,14 @@ int sl_cmd_apsf(int argc, char **argv)
   if (!o.has("T")) return sl::fail(kCmd, "missing --T (optical thickness)", 2);
   double T, tolerance;
   std::vector<double> angles;
-  sl_apsf_medium m;
+  Medium med;
   std::string why;
   if (!o.number("T", &T) || !o.list("angles", &angles)) return sl::fail(kCmd, o.error(), 2);
   if (!(T > 0.0 && std::isfinite(T))) return sl::fail(kCmd, "--T must be > 0", 2);
-  if (!read_medium(o, &m, &tolerance, &why)) return sl::fail(kCmd, why, 2);
   for (double a : angles)
     if (!(a >= 0.0 && a <= 180.0)) return sl::fail(kCmd, "--angles must lie in 0..180 degrees", 2);
+  if (!read_medium(o, &med, &tolerance, &why)) return sl::fail(kCmd, why, 2);
+  const sl_apsf_medium &m = med.m;
   Psf psf;
   if (!evaluate(m, T, tolerance, angles, &psf, &why)) return sl::fail(kCmd, why, 2);
   std::vector<double> relative(angles.size());
@@ -217,6 +264,7 @@ int sl_cmd_apsf(int argc, char **argv)
     cJSON_AddNumberToObject(root, "q", m.q);
     cJSON_AddNumberToObject(root, "albedo", m.albedo);
     cJSON_AddNumberToObject(root, "terms", psf.terms);
+    cJSON_AddStringToObject(root, "medium", med.label.c_str());
     cJSON_AddNumberToObject(root, "tolerance", tolerance);
     cJSON_AddStringToObject(root, "regime", regime);
     cJSON_AddItemToObject(root, "angles_deg", cJSON_CreateDoubleArray(angles.data(), (int)angles.size()));
@@ -230,8 +278,8 @@ int sl_cmd_apsf(int argc, char **argv)
     std::free(text);
     cJSON_Delete(root);
   } else {
-    std::printf("T %.6g  q %.6g  albedo %.6g  %s, %d terms (tolerance %g); psf relative to %g degrees\n", T, m.q,
-                m.albedo, regime, psf.terms, tolerance, psf.blend >= 1.0 ? 0.0 : kReferenceDeg);
+    std::printf("T %.6g  %s  %s, %d terms (tolerance %g); psf relative to %g degrees\n", T, med.label.c_str(), regime,
+                psf.terms, tolerance, psf.blend >= 1.0 ? 0.0 : kReferenceDeg);
     if (psf.direct > 0) std::printf("unscattered Dirac at the source: weight %.6g\n", psf.direct);
     for (size_t i = 0; i < angles.size(); ++i)
       std::printf("  %7.2f deg  psf %.9g  fluence weight %.9g /sr\n", angles[i], relative[i], psf.weight[i]);

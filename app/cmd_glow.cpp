@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "sl_glow.h"
 #include "sl_image_io.h"
+#include "sl_optics.h"
 
 namespace {
 
@@ -42,6 +43,8 @@ int sl_cmd_glow(int argc, char **argv)
   o.option("T", "T", "one optical thickness for every pixel instead of depth (> 0)");
   o.option("q", "Q", "Henyey-Greenstein parameter of the particles, (-1, 1)", "0.9");
   o.option("albedo", "W0", "single-scattering albedo, (0, 1]", "1");
+  o.option("particle", "NAME", "instead of --q/--albedo: render/optics tables of cloud, rain, ice or snow at 650, 515, "
+           "440 nm for red, green, blue");
   o.option("depth-channel", "NAME", "EXR channel holding the view-axis distance (only Z is read)", "Z");
   o.option("fov", "DEG", "vertical field of view of the camera that made the frame", "40");
   o.option("threshold", "L", "a pixel is a light source when its largest RGB value reaches L", "1");
@@ -104,6 +107,33 @@ int sl_cmd_glow(int argc, char **argv)
   for (int c = 0; c < 3; ++c) p.airlight[c] = airlight[c];
 
   sl_error err{};
+  // With --particle the three channels get the tables' moments and albedos (render/optics).
+  sl_optics_tables *tables = nullptr;
+  sl_apsf_medium media[3];
+  if (o.has("particle")) {
+    const int part = sl_particle_from_name(o.str("particle").c_str());
+    if (part < 0) return sl::fail(kCmd, "--particle must be cloud, rain, ice or snow", 2);
+    sl_optics_request req;
+    sl_optics_request_defaults(&req); /* the paper's 650, 515, 440 nm */
+    req.particles = 1u << part;
+    {
+      sl::Progress bar("optics tables", !o.has("quiet"));
+      req.progress = progress_hook;
+      req.progress_user = &bar;
+      tables = sl_optics_build(&req, &err);
+      bar.done();
+    }
+    if (!tables) return sl::fail(kCmd, err.message);
+    for (int c = 0; c < 3; ++c) {
+      const sl_phase_table *t = sl_optics_table(tables, (sl_particle)part, c);
+      media[c] = sl_apsf_medium{t->albedo, t->moments[1], t->moments, t->n_moments};
+      p.channel_medium[c] = &media[c];
+    }
+  }
+  struct TablesGuard {
+    sl_optics_tables *t;
+    ~TablesGuard() { sl_optics_free(t); }
+  } tables_guard{tables};
   sl_image img{};
   if (sl_read_exr(in_path.c_str(), &img, &err)) return sl::fail(kCmd, err.message); /* names the file */
   if (p.fixed_T <= 0) {
@@ -148,8 +178,16 @@ int sl_cmd_glow(int argc, char **argv)
     cJSON_AddStringToObject(root, "output", out_path.c_str());
     if (p.fixed_T > 0) cJSON_AddNumberToObject(root, "T", p.fixed_T);
     else cJSON_AddNumberToObject(root, "sigma_per_m", p.sigma);
-    cJSON_AddNumberToObject(root, "q", p.medium.q);
-    cJSON_AddNumberToObject(root, "albedo", p.medium.albedo);
+    if (tables) {
+      cJSON_AddStringToObject(root, "particle", o.str("particle").c_str());
+      double g[3], a[3];
+      for (int c = 0; c < 3; ++c) g[c] = media[c].q, a[c] = media[c].albedo;
+      cJSON_AddItemToObject(root, "asymmetry_rgb", cJSON_CreateDoubleArray(g, 3));
+      cJSON_AddItemToObject(root, "albedo_rgb", cJSON_CreateDoubleArray(a, 3));
+    } else {
+      cJSON_AddNumberToObject(root, "q", p.medium.q);
+      cJSON_AddNumberToObject(root, "albedo", p.medium.albedo);
+    }
     cJSON_AddNumberToObject(root, "source_pixels", st.sources);
     cJSON_AddNumberToObject(root, "T_min", st.T_min);
     cJSON_AddNumberToObject(root, "T_max", st.T_max);

@@ -94,6 +94,8 @@ int sl_apsf_series_init(sl_apsf_series *s, const sl_apsf_medium *m, double T, do
     return sl_fail(err, SL_ERR_ARG, "apsf: albedo must be in (0, 1] (got %g)", m->albedo);
   if (!m->chi && !(m->q > -1.0 && m->q < 1.0))
     return sl_fail(err, SL_ERR_ARG, "apsf: Henyey-Greenstein q must be in (-1, 1) (got %g)", m->q);
+  if (m->chi && (m->n_chi < 1 || m->chi[0] != 1.0))
+    return sl_fail(err, SL_ERR_ARG, "apsf: phase moments must start with chi_0 = 1 (%d given)", m->n_chi);
   if (terms <= 0) {
     if (!(tolerance > 0.0 && tolerance < 1.0))
       return sl_fail(err, SL_ERR_ARG, "apsf: tolerance must be in (0, 1) (got %g)", tolerance);
@@ -190,6 +192,10 @@ int sl_apsf_profile_build(sl_apsf_profile *p, const sl_apsf_medium *m, double T,
   if (n_samples < 16) return sl_fail(err, SL_ERR_ARG, "apsf: profile needs at least 16 samples (got %d)", n_samples);
   if (!(m->albedo > 0.0 && m->albedo <= 1.0))
     return sl_fail(err, SL_ERR_ARG, "apsf: albedo must be in (0, 1] (got %g)", m->albedo);
+  if (!m->chi && !(m->q > -1.0 && m->q < 1.0))
+    return sl_fail(err, SL_ERR_ARG, "apsf: Henyey-Greenstein q must be in (-1, 1) (got %g)", m->q);
+  if (m->chi && (m->n_chi < 1 || m->chi[0] != 1.0))
+    return sl_fail(err, SL_ERR_ARG, "apsf: phase moments must start with chi_0 = 1 (%d given)", m->n_chi);
   double x = (T - SL_APSF_BLEND_LO) / (SL_APSF_BLEND_HI - SL_APSF_BLEND_LO);
   x = x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
   const double w = x * x * (3.0 - 2.0 * x);

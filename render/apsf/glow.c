@@ -391,20 +391,31 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     }
     if (!any) continue; /* no sources at this depth: no work */
     const double Tl = exp(lmin + l * lstep);
-    const double t0 = now_s();
-    rc = model_build(km, &p->medium, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
-    if (rc) break;
-    const double t1 = now_s();
-    int kernel_ready = 0;
-    for (int c = 0; c < 3; ++c) {
+    double t_kernel = 0.0, t_fft = 0.0;
+    const sl_apsf_medium *built = NULL;
+    for (int c = 0; c < 3 && rc == SL_OK; ++c) {
+      const sl_apsf_medium *mc = p->channel_medium[c] ? p->channel_medium[c] : &p->medium;
+      double t0 = now_s();
       if (!plane_spectrum(ws, src[c])) continue;
-      if (!kernel_ready) kernel_spectrum_any(ws, NULL, km);
-      kernel_ready = 1;
+      double t1 = now_s();
+      t_fft += t1 - t0;
+      if (mc != built) {
+        rc = model_build(km, mc, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
+        if (rc) break;
+        t0 = now_s();
+        t_kernel += t0 - t1;
+        kernel_spectrum_any(ws, NULL, km);
+        t_fft += now_s() - t0;
+        built = mc;
+      }
+      t0 = now_s();
       multiply_spectra(ws, ws->sum[c], used[c]);
+      t_fft += now_s() - t0;
       used[c] = 1;
     }
-    st.kernel_seconds += t1 - t0;
-    st.convolve_seconds += now_s() - t1;
+    if (rc) break;
+    st.kernel_seconds += t_kernel;
+    st.convolve_seconds += t_fft;
     st.layer_T[st.layers_used] = Tl;
     st.layer_terms[st.layers_used] = km->terms;
     ++st.layers_used;

@@ -59,6 +59,9 @@ int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float
 
 typedef struct sl_glow_params {
   sl_apsf_medium medium;
+  /* Optional per-channel media (R, G, B), e.g. a particle table at 650, 515 and 440 nm; NULL
+   * entries use `medium`. Distinct media cost one kernel transform each per layer. */
+  const sl_apsf_medium *channel_medium[3];
   double sigma;         /* extinction coefficient of the medium (1/m), T = sigma * distance */
   double fixed_T;       /* > 0: every pixel at this T and depth is not read */
   double sky_distance;  /* distance (m) given to pixels of infinite depth; <= 0: such pixels are
