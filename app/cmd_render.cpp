@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -17,6 +19,8 @@
 #include "cli.h"
 #include "commands.h"
 #include "composite_pass.h"
+#include "scene.h"
+#include <cjson/cJSON.h>
 #include "sl_image_io.h"
 #include "sl_renderer.h"
 #include "sl_optics.h"
@@ -76,7 +80,44 @@ bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const 
 
 }  // namespace
 
+static int render_main(int argc, char **argv);
+
 int sl_cmd_render(int argc, char **argv)
+{
+  // A scene file becomes arguments in front of the user's own, so flags override the file.
+  std::vector<std::string> args;
+  std::string scene_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--scene" && i + 1 < argc) scene_path = argv[++i];
+    else if (a.rfind("--scene=", 0) == 0) scene_path = a.substr(8);
+    else args.push_back(a);
+  }
+  if (scene_path.empty()) return render_main(argc, argv);
+  std::vector<std::string> from_scene;
+  std::string error;
+  if (!sl::scene_to_arguments(scene_path, &from_scene, &error)) return sl::fail("render", error, 2);
+  // The user's positional FILE replaces the scene's data.
+  bool user_file = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i].rfind("--", 0) == 0) {
+      if (i + 1 < args.size() && args[i + 1].rfind("--", 0) != 0) ++i;  // an option's value
+      continue;
+    }
+    user_file = true;
+  }
+  if (user_file && !from_scene.empty() && from_scene[0].rfind("--", 0) != 0) from_scene.erase(from_scene.begin());
+  std::vector<std::string> all = {"render"};
+  all.insert(all.end(), from_scene.begin(), from_scene.end());
+  all.insert(all.end(), args.begin(), args.end());
+  all.push_back("--scene-text");
+  all.push_back(scene_path);
+  std::vector<char *> cargv;
+  for (std::string &s : all) cargv.push_back(&s[0]);
+  return render_main((int)cargv.size(), cargv.data());
+}
+
+static int render_main(int argc, char **argv)
 {
   sl::Options o("render", "FILE --out frame.exr[,frame.png] [options]",
                 "Renders one time of a storm file with half-angle slicing (light buffer + eye buffer) and the\n"
@@ -96,7 +137,8 @@ int sl_cmd_render(int argc, char **argv)
   o.option("earth", "flat|round", "air mass of the sunlight: the paper's flat earth or a spherical one", "round");
   o.option("lighting", "MODEL", "multiple (Riley eqs. 16-26 with eq. 24), eq25 (the paper's eq. 25), low-albedo (Fig. 13)",
            "multiple");
-  o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr", "0");
+  o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr: light that higher orders return and the\n"
+           "forward-only light buffer discards (0 for thin media)", "0.05");
   o.option("wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
            "rgb");
   o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");
@@ -113,6 +155,9 @@ int sl_cmd_render(int argc, char **argv)
   o.flag("float", "write 32-bit float EXR channels instead of half");
   o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
   o.flag("quiet", "no progress bar or summary");
+  o.flag("json", "print one JSON object: camera, sun direction, size, seconds");
+  o.option("scene", "FILE.json", "read options from a scene file; command-line flags override it");
+  o.option("scene-text", "FILE", "(internal) the scene file the options came from");
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
   const std::string cmd = "render";
@@ -170,7 +215,8 @@ int sl_cmd_render(int argc, char **argv)
     if (!sl_parse_iso8601_utc(o.str("date"), &date, &why)) return sl::fail(cmd, "--date: " + why, 2);
   }
   if (threads > 0) omp_set_num_threads((int)threads);
-  const bool quiet = o.has("quiet");
+  const bool json = o.has("json");
+  const bool quiet = o.has("quiet") || json;
 
   double t0 = sl::now_seconds();
   sl_load_options lo{(int)time_index, dz};
@@ -307,8 +353,23 @@ int sl_cmd_render(int argc, char **argv)
   t_composite = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
   for (const std::string &f : outs) {
+    sl_exr_metadata meta{};
+    double distance = 0.0;
+    for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
+    sl_exr_camera_matrices(cam.position, cam.target, cam.up, cam.fov_deg, (double)cam.width / cam.height,
+                           std::max(1.0, 1e-3 * std::sqrt(distance)), 1e3 * std::sqrt(distance), &meta);
+    meta.has_sun = 1;
+    for (int a = 0; a < 3; ++a) meta.sun_direction[a] = (float)scene.sun_direction[a];
+    std::string scene_text;
+    if (o.has("scene-text")) {
+      std::ifstream in(o.str("scene-text"));
+      std::stringstream ss;
+      ss << in.rdbuf();
+      scene_text = ss.str();
+      meta.scene = scene_text.c_str();
+    }
     const int w = ends_with(f, ".exr")
-                      ? sl_write_exr(f.c_str(), &frame_img, o.has("float") ? SL_EXR_FLOAT : SL_EXR_HALF, &err)
+                      ? sl_write_exr_meta(f.c_str(), &frame_img, o.has("float") ? SL_EXR_FLOAT : SL_EXR_HALF, &meta, &err)
                       : sl_write_png(f.c_str(), &frame_img, (float)exposure, &err);
     if (w) {
       rc = sl::fail(cmd, err.message);
@@ -323,7 +384,33 @@ int sl_cmd_render(int argc, char **argv)
                 "pass %.3f s, composite %.3f s, write %.3f s\n",
                 path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,
                 stats.light_height, t_load, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
-  (void)t_render;
+  if (json) {
+    double fwd[3], len = 0.0;
+    for (int a = 0; a < 3; ++a) fwd[a] = cam.target[a] - cam.position[a], len += fwd[a] * fwd[a];
+    for (int a = 0; a < 3; ++a) fwd[a] /= std::sqrt(len);
+    double right[3] = {fwd[1] * cam.up[2] - fwd[2] * cam.up[1], fwd[2] * cam.up[0] - fwd[0] * cam.up[2],
+                       fwd[0] * cam.up[1] - fwd[1] * cam.up[0]};
+    const double rn = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+    for (double &v : right) v /= rn;
+    const double up[3] = {right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
+                          right[0] * fwd[1] - right[1] * fwd[0]};
+    cJSON *root = cJSON_CreateObject();
+    cJSON *c = cJSON_AddObjectToObject(root, "camera");
+    cJSON_AddItemToObject(c, "position", cJSON_CreateDoubleArray(cam.position, 3));
+    cJSON_AddItemToObject(c, "forward", cJSON_CreateDoubleArray(fwd, 3));
+    cJSON_AddItemToObject(c, "up", cJSON_CreateDoubleArray(up, 3));
+    cJSON_AddNumberToObject(c, "fov_y_deg", cam.fov_deg);
+    cJSON_AddItemToObject(root, "sun_direction", cJSON_CreateDoubleArray(scene.sun_direction, 3));
+    cJSON_AddNumberToObject(root, "width", cam.width);
+    cJSON_AddNumberToObject(root, "height", cam.height);
+    cJSON_AddNumberToObject(root, "seconds", t_load + t_render + t_composite + t_write);
+    cJSON_AddNumberToObject(root, "slices", stats.slices);
+    cJSON_AddBoolToObject(root, "night", stats.night != 0);
+    char *text = cJSON_PrintUnformatted(root);
+    std::printf("%s\n", text);
+    std::free(text);
+    cJSON_Delete(root);
+  }
 done:
   sl_image_free(&volume);
   sl_image_free(&background);

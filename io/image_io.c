@@ -39,6 +39,53 @@ static void silent_handler(exr_const_context_t ctxt, exr_result_t code, const ch
 
 int sl_write_exr(const char *path, const sl_image *img, sl_exr_precision precision, sl_error *err)
 {
+  return sl_write_exr_meta(path, img, precision, NULL, err);
+}
+
+void sl_exr_camera_matrices(const double position[3], const double target[3], const double up[3], double fov_deg,
+                            double aspect, double near_m, double far_m, sl_exr_metadata *meta)
+{
+  double f[3], r[3], u[3];
+  double n = 0.0;
+  for (int a = 0; a < 3; ++a) f[a] = target[a] - position[a], n += f[a] * f[a];
+  n = sqrt(n);
+  for (int a = 0; a < 3; ++a) f[a] /= n;
+  r[0] = f[1] * up[2] - f[2] * up[1], r[1] = f[2] * up[0] - f[0] * up[2], r[2] = f[0] * up[1] - f[1] * up[0];
+  n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  for (int a = 0; a < 3; ++a) r[a] /= n;
+  u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
+  /* Camera axes as columns: x = right, y = up, z = back (-forward); translation in the last row. */
+  double w2c[16] = {0};
+  for (int i = 0; i < 3; ++i) {
+    w2c[4 * i + 0] = r[i];
+    w2c[4 * i + 1] = u[i];
+    w2c[4 * i + 2] = -f[i];
+  }
+  w2c[12] = -(position[0] * r[0] + position[1] * r[1] + position[2] * r[2]);
+  w2c[13] = -(position[0] * u[0] + position[1] * u[1] + position[2] * u[2]);
+  w2c[14] = (position[0] * f[0] + position[1] * f[1] + position[2] * f[2]);
+  w2c[15] = 1.0;
+  /* The OpenGL perspective matrix, transposed for row vectors. */
+  const double t = 1.0 / tan(0.5 * fov_deg * M_PI / 180.0);
+  double proj[16] = {0};
+  proj[0] = t / aspect;
+  proj[5] = t;
+  proj[10] = (far_m + near_m) / (near_m - far_m);
+  proj[11] = -1.0;
+  proj[14] = 2.0 * far_m * near_m / (near_m - far_m);
+  meta->has_camera = 1;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < 4; ++k) v += w2c[4 * i + k] * proj[4 * k + j];
+      meta->world_to_ndc[4 * i + j] = (float)v;
+      meta->world_to_camera[4 * i + j] = (float)w2c[4 * i + j];
+    }
+}
+
+int sl_write_exr_meta(const char *path, const sl_image *img, sl_exr_precision precision,
+                      const sl_exr_metadata *meta, sl_error *err)
+{
   char tmp[4096];
   if (sl_temp_name(path, tmp, sizeof tmp, err)) return err->code;
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -64,6 +111,19 @@ int sl_write_exr(const char *path, const sl_image *img, sl_exr_precision precisi
     const exr_pixel_type_t t = sources[c].name[0] == 'Z' ? EXR_PIXEL_FLOAT : ctype;
     if ((r = exr_add_channel(ctx, part, sources[c].name, t, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1))) goto exr_error;
   }
+  if (meta && meta->has_camera) {
+    exr_attr_m44f_t m;
+    memcpy(m.m, meta->world_to_camera, sizeof m.m);
+    if ((r = exr_attr_set_m44f(ctx, part, "worldToCamera", &m))) goto exr_error;
+    memcpy(m.m, meta->world_to_ndc, sizeof m.m);
+    if ((r = exr_attr_set_m44f(ctx, part, "worldToNDC", &m))) goto exr_error;
+  }
+  if (meta && meta->has_sun) {
+    exr_attr_v3f_t v;
+    v.x = meta->sun_direction[0], v.y = meta->sun_direction[1], v.z = meta->sun_direction[2];
+    if ((r = exr_attr_set_v3f(ctx, part, "sunDirection", &v))) goto exr_error;
+  }
+  if (meta && meta->scene && (r = exr_attr_set_string(ctx, part, "stormlightScene", meta->scene))) goto exr_error;
   if ((r = exr_write_header(ctx))) goto exr_error;
   int32_t lines = 1;
   if ((r = exr_get_scanlines_per_chunk(ctx, part, &lines))) goto exr_error;

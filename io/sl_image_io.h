@@ -13,6 +13,25 @@ typedef enum sl_exr_precision { SL_EXR_HALF = 0, SL_EXR_FLOAT = 1 } sl_exr_preci
 
 /* Writes R, G, B, A in the given precision and Z (float) when img->depth is set. */
 int sl_write_exr(const char *path, const sl_image *img, sl_exr_precision precision, sl_error *err);
+
+/* How a frame was made, written as OpenEXR header attributes: the standard worldToCamera and
+ * worldToNDC (4x4, row vectors: p' = p M, camera looking down -z with +y up, NDC x and y in
+ * [-1, 1] after the divide by w), and Stormlight's sunDirection (v3f, world ENU, toward the
+ * sun) and stormlightScene (string). */
+typedef struct sl_exr_metadata {
+  int has_camera;
+  float world_to_camera[16], world_to_ndc[16];
+  int has_sun;
+  float sun_direction[3];
+  const char *scene;  /* may be NULL */
+} sl_exr_metadata;
+
+int sl_write_exr_meta(const char *path, const sl_image *img, sl_exr_precision precision,
+                      const sl_exr_metadata *meta, sl_error *err);
+/* Fills the matrices for a pinhole camera (position, target, up, vertical fov, aspect, near and
+ * far clipping distances). */
+void sl_exr_camera_matrices(const double position[3], const double target[3], const double up[3], double fov_deg,
+                            double aspect, double near_m, double far_m, sl_exr_metadata *meta);
 /* Reads R, G, B and, where present, A and Z; missing A reads as 1, missing Z as +inf. */
 int sl_read_exr(const char *path, sl_image *img, sl_error *err);
 

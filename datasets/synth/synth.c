@@ -114,6 +114,10 @@ static hydrometeors cumulonimbus(uint64_t seed, double x, double y, double z, do
   const double shaft_radius = 2300.0 + 600.0 * (n - 0.5);
   const double shaft = smoothstep(shaft_radius, shaft_radius * 0.6, rs) * smoothstep(4600.0, 3800.0, z);
   h.rain = 1.8e-3 * shaft * (0.7 + 0.6 * n);
+  /* A lighter rain curtain on the south flank, falling from the anvil into sunlight: where a
+   * viewer with the sun at their back sees the rainbow. */
+  const double curtain = smoothstep(2600.0, 1400.0, hypot((x + 1500.0) * 0.6, y + 5200.0)) * smoothstep(4200.0, 3000.0, z);
+  h.rain += 3e-4 * curtain * (0.8 + 0.4 * n);
   return h;
 }
 

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <openexr.h>
+
 #include "sl_image_io.h"
 #include "sl_testing.h"
 
@@ -54,6 +56,40 @@ int main(void)
   CHECK_CLOSE(sl_tonemap(0.0f, 10.0f), 0.0, 0.0, 1e-7);
   CHECK_CLOSE(sl_tonemap(1e6f, 10.0f), 1.0, 1e-6, 0.0);
   CHECK(sl_tonemap(0.02f, 10.0f) < sl_tonemap(0.03f, 10.0f));
+  /* Camera matrices: the target lands at NDC (0, 0) in front of the camera, a point on the upper
+   * edge of the field of view at y = 1, and the matrices are written into the header. */
+  {
+    sl_exr_metadata meta = {0};
+    const double pos[3] = {100, -2000, 300}, target[3] = {100, 0, 300}, up[3] = {0, 0, 1};
+    sl_exr_camera_matrices(pos, target, up, 40.0, 1.5, 1.0, 1e6, &meta);
+    const double pts[2][3] = {{100, 0, 300}, {100, 0, 300 + 2000 * tan(20 * M_PI / 180)}};
+    for (int k = 0; k < 2; ++k) {
+      double h[4] = {0};
+      const double p4[4] = {pts[k][0], pts[k][1], pts[k][2], 1.0};
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) h[j] += p4[i] * meta.world_to_ndc[4 * i + j];
+      CHECK_CLOSE(h[0] / h[3], 0.0, 0.0, 1e-6);
+      CHECK_CLOSE(h[1] / h[3], k == 0 ? 0.0 : 1.0, 1e-5, 1e-6);
+      double zc = 0.0;
+      for (int i = 0; i < 4; ++i) zc += p4[i] * meta.world_to_camera[4 * i + 2];
+      CHECK_CLOSE(zc, -2000.0, 1e-6, 0.0);
+    }
+    meta.has_sun = 1;
+    meta.sun_direction[2] = 1.0f;
+    meta.scene = "{\"test\":1}";
+    CHECK(sl_write_exr_meta(path, &a, SL_EXR_HALF, &meta, &err) == SL_OK);
+    exr_context_t ctx;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    CHECK(exr_start_read(&ctx, path, &init) == EXR_ERR_SUCCESS);
+    exr_attr_m44f_t m;
+    CHECK(exr_attr_get_m44f(ctx, 0, "worldToNDC", &m) == EXR_ERR_SUCCESS);
+    CHECK_CLOSE(m.m[5], meta.world_to_ndc[5], 0.0, 0.0);
+    exr_attr_v3f_t v;
+    CHECK(exr_attr_get_v3f(ctx, 0, "sunDirection", &v) == EXR_ERR_SUCCESS);
+    CHECK_CLOSE(v.z, 1.0, 0.0, 0.0);
+    exr_finish(&ctx);
+    unlink(path);
+  }
   sl_image_free(&a);
   sl_image_free(&b);
   return sl_test_finish("test_image_io");
