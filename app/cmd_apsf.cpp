@@ -40,7 +40,7 @@ const double kReferenceDeg = 1.0; /* psf reference angle below T = 1.5 */
 // Fluence weight (1/sr, sl_apsf.h) at each angle, plus the Dirac's weight and the term count.
 struct Psf {
   std::vector<double> weight;
-  double direct = 0.0, blend = 1.0, forward = 0.0;
+  double direct = 0.0, blend = 1.0, forward = 0.0, back_fraction = -1.0;
   int terms = 0;
 };
 
@@ -59,6 +59,7 @@ bool evaluate(const sl_apsf_medium &m, double T, double tolerance, const std::ve
     for (size_t i = 0; i < angles_deg.size(); ++i)
       out->weight[i] = sl_apsf_fluence_weight(T, sl_apsf_series_eval(&s, std::cos(angles_deg[i] * kPi / 180.0)));
     out->forward = sl_apsf_fluence_weight(T, sl_apsf_series_eval(&s, 1.0));
+    out->back_fraction = sl_apsf_series_back_fraction(&s);
     out->terms = s.terms;
     sl_apsf_series_free(&s);
     return true;
@@ -152,29 +153,50 @@ int plot(sl::Options &o)
   if (!o.list("size", &size)) return sl::fail(kCmd, o.error(), 2);
   if (size.size() != 2 || size[0] < 200 || size[1] < 150 || size[0] > 8000 || size[1] > 8000)
     return sl::fail(kCmd, "--size needs W,H between 200x150 and 8000x8000", 2);
-  // The paper's Figs. 2-4 range: T from just above 1 (hundreds of terms) to 4 and more.
-  const double Ts[8] = {1.02, 1.1, 1.2, 1.5, 2.0, 3.0, 4.0, 6.0};
+  const bool back = o.str("figure") == "back";
+  if (!back && o.str("figure") != "psf") return sl::fail(kCmd, "--figure must be psf or back", 2);
+  // psf: the paper's Figs. 2 and 4 range, T from just above 1 (hundreds of terms) to 6.
+  // back: Fig. 3, the energy in the back hemisphere (mu <= 0) against T for several q.
+  const std::vector<double> Ts = {1.02, 1.1, 1.2, 1.5, 2.0, 3.0, 4.0, 6.0};
+  const std::vector<double> qs = {0.5, 0.7, 0.8, 0.9, 0.95};
   static const unsigned char kColour[8][3] = {{120, 0, 160}, {60, 60, 220}, {0, 140, 220}, {0, 160, 120},
                                               {90, 170, 0},  {220, 160, 0}, {230, 90, 0},  {200, 0, 40}};
-  const int n_points = 721;
-  std::vector<double> angles(n_points);
-  for (int i = 0; i < n_points; ++i) angles[i] = 180.0 * i / (n_points - 1);
+  const int n_points = back ? 200 : 721;
+  std::vector<double> xs_v(n_points);
+  for (int i = 0; i < n_points; ++i)
+    xs_v[i] = back ? 1.02 * std::pow(10.0 / 1.02, (double)i / (n_points - 1)) : 180.0 * i / (n_points - 1);
   vtkNew<vtkTable> table;
   vtkNew<vtkDoubleArray> xs;
-  xs->SetName("angle from the source (degrees)");
+  xs->SetName(back ? "optical thickness T" : "angle from the source (degrees)");
   xs->SetNumberOfValues(n_points);
-  for (int i = 0; i < n_points; ++i) xs->SetValue(i, angles[i]);
+  for (int i = 0; i < n_points; ++i) xs->SetValue(i, xs_v[i]);
   table->AddColumn(xs);
-  for (double T : Ts) {
-    Psf psf;
-    // The paper's series itself, also below T = 1.5 where 'glow' blends in single scattering.
-    if (!evaluate(m, T, tolerance, angles, &psf, &why, true)) return sl::fail(kCmd, why);
+  const size_t n_curves = back ? qs.size() : Ts.size();
+  for (size_t k = 0; k < n_curves; ++k) {
     vtkNew<vtkDoubleArray> ys;
     char label[64];
-    std::snprintf(label, sizeof label, "T = %.2f (%d terms)", T, psf.terms);
-    ys->SetName(label);
     ys->SetNumberOfValues(n_points);
-    for (int i = 0; i < n_points; ++i) ys->SetValue(i, std::max(1e-6, psf.weight[i] / psf.forward));
+    if (back) {
+      sl_apsf_medium mq = m;
+      mq.q = qs[k];
+      mq.chi = nullptr;
+      std::snprintf(label, sizeof label, "q = %.2f", qs[k]);
+      for (int i = 0; i < n_points; ++i) {
+        sl_apsf_series s;
+        sl_error err{};
+        if (sl_apsf_series_init(&s, &mq, xs_v[i], tolerance, 0, &err)) return sl::fail(kCmd, err.message);
+        // Absolute energy with I0 = 1, c_m = 1 as in the paper: fraction times 4 pi g_1.
+        ys->SetValue(i, std::max(1e-9, sl_apsf_series_back_fraction(&s) * 4.0 * kPi * std::exp(sl_apsf_log_g(&mq, 1, xs_v[i]))));
+        sl_apsf_series_free(&s);
+      }
+    } else {
+      // The paper's series itself, also below T = 1.5 where 'glow' blends in single scattering.
+      Psf psf;
+      if (!evaluate(m, Ts[k], tolerance, xs_v, &psf, &why, true)) return sl::fail(kCmd, why);
+      std::snprintf(label, sizeof label, "T = %.2f (%d terms)", Ts[k], psf.terms);
+      for (int i = 0; i < n_points; ++i) ys->SetValue(i, std::max(1e-6, psf.weight[i] / psf.forward));
+    }
+    ys->SetName(label);
     table->AddColumn(ys);
   }
   vtkNew<vtkContextView> view;
@@ -185,17 +207,21 @@ int plot(sl::Options &o)
   view->GetScene()->AddItem(chart);
   chart->SetShowLegend(true);
   char title[160];
-  std::snprintf(title, sizeof title, "Narasimhan et al. eq. 27 (the series alone), %s, relative to forward",
-                med.label.c_str());
+  if (back)
+    std::snprintf(title, sizeof title, "energy in the back hemisphere (Narasimhan et al. Fig. 3; I0 = 1, c_m = 1), albedo %.2f",
+                  m.albedo);
+  else
+    std::snprintf(title, sizeof title, "Narasimhan et al. eq. 27 (the series alone), %s, relative to forward",
+                  med.label.c_str());
   chart->SetTitle(title);
-  chart->GetAxis(vtkAxis::LEFT)->SetTitle("PSF / PSF(0)");
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle(back ? "2 pi int_{-1}^{0} I dmu" : "PSF / PSF(0)");
   chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
-  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("angle from the source (degrees)");
-  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(0.0, 180.0);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle(back ? "optical thickness T" : "angle from the source (degrees)");
+  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(back ? 1.0 : 0.0, back ? 10.0 : 180.0);
   chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
-  for (int k = 0; k < 8; ++k) {
+  for (size_t k = 0; k < n_curves; ++k) {
     vtkPlot *line = chart->AddPlot(vtkChart::LINE);
-    line->SetInputData(table, 0, k + 1);
+    line->SetInputData(table, 0, (vtkIdType)k + 1);
     line->SetColor(kColour[k][0], kColour[k][1], kColour[k][2], 255);
     line->SetWidth(1.5);
   }
@@ -239,6 +265,8 @@ int sl_cmd_apsf(int argc, char **argv)
   o.flag("plot", "draw PSFs for the paper's range of T with VTK's charts (needs --out)");
   o.option("out", "FILE.png", "with --plot: the image to write");
   o.option("size", "W,H", "with --plot: image size in pixels", "1000,650");
+  o.option("figure", "psf|back", "with --plot: PSFs for T 1.02..6 (Figs. 2, 4) or the back-hemisphere energy against T "
+           "for q 0.5..0.95 (Fig. 3)", "psf");
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
   if (o.has("plot")) return plot(o);
@@ -272,6 +300,7 @@ int sl_cmd_apsf(int argc, char **argv)
     cJSON_AddNumberToObject(root, "psf_reference_deg", psf.blend >= 1.0 ? 0.0 : kReferenceDeg);
     cJSON_AddItemToObject(root, "fluence_weight", cJSON_CreateDoubleArray(psf.weight.data(), (int)psf.weight.size()));
     cJSON_AddNumberToObject(root, "direct", psf.direct);
+    if (psf.back_fraction >= 0) cJSON_AddNumberToObject(root, "back_hemisphere_fraction", psf.back_fraction);
     cJSON_AddStringToObject(root, "normalisation", kNormalisation);
     char *text = cJSON_PrintUnformatted(root);
     std::printf("%s\n", text);

@@ -132,6 +132,13 @@ double sl_apsf_series_shape(const sl_apsf_series *s, double mu)
 
 double sl_apsf_series_eval(const sl_apsf_series *s, double mu) { return exp(s->log_scale) * sl_apsf_series_shape(s, mu); }
 
+double sl_apsf_series_back_fraction(const sl_apsf_series *s)
+{
+  /* The coefficients are in render/optics' convention, where chi_0 is the integral over the
+   * sphere, so its forward-hemisphere sum applies as it is. */
+  return 1.0 - sl_legendre_forward_fraction(s->chi, s->terms) / s->chi[0];
+}
+
 void sl_apsf_series_free(sl_apsf_series *s)
 {
   free(s->chi);

@@ -71,6 +71,9 @@ double sl_apsf_series_eval(const sl_apsf_series *s, double mu);
 /* S(T, mu) / exp(log_scale): the same function scaled to order 1, for any T. */
 double sl_apsf_series_shape(const sl_apsf_series *s, double mu);
 void sl_apsf_series_free(sl_apsf_series *s);
+/* Fraction of the series' fluence in the back hemisphere mu <= 0 (the paper's Fig. 3 shows the
+ * absolute energy there: this times 4 pi g_1). Tends to 1/4 as T grows (eq. 33: 1 + mu). */
+double sl_apsf_series_back_fraction(const sl_apsf_series *s);
 
 /* Single scattering of the point source seen from distance T, in S's units (the same radiance
  * normalisation), along a view ray at angle gamma from the source: W0 int P e^{-(tau+t)}/tau^2 dt.

@@ -51,6 +51,13 @@ static void test_eq33_limit(void)
         const double v = series(T, q, W0, mu, 1e-12) * T * T * exp(b1 * T);
         CHECK_CLOSE(v, 1.0 + mu, 0, 2.5 * next + 1e-9);
       }
+      /* The back hemisphere of 1 + mu holds 1/4 of it. */
+      const sl_apsf_medium m = {W0, q, NULL, 0};
+      sl_apsf_series s;
+      sl_error err = {0};
+      sl_apsf_series_init(&s, &m, T, 1e-12, 0, &err);
+      CHECK_CLOSE(sl_apsf_series_back_fraction(&s), 0.25, 0, 2.0 * next + 1e-9);
+      sl_apsf_series_free(&s);
     }
 }
 
@@ -105,9 +112,12 @@ static void test_fluence(void)
         if (sl_apsf_series_init(&s, &m, Ts[i], 1e-12, 0, &err)) continue;
         double sum = 0.0;
         for (int n = 0; n < 400; ++n) sum += w[n] * sl_apsf_series_eval(&s, x[n]);
-        sl_apsf_series_free(&s);
+        double back = 0.0; /* mu in [-1, 0]: Gauss-Legendre mapped to the half interval */
+        for (int n = 0; n < 400; ++n) back += 0.5 * w[n] * sl_apsf_series_eval(&s, 0.5 * (x[n] - 1.0));
+        CHECK_CLOSE(sl_apsf_series_back_fraction(&s), back / sum, 1e-9, 0);
         const double want = 4.0 * REF_PI * exp(-3.0 * (1.0 - W0s[k]) * Ts[i]);
         CHECK_CLOSE(Ts[i] * Ts[i] * 2.0 * REF_PI * sum, want, 1e-9, 0);
+        sl_apsf_series_free(&s);
       }
 }
 
