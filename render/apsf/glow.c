@@ -120,6 +120,59 @@ int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, d
   return SL_OK;
 }
 
+int sl_glow_kernel_build_sphere(sl_glow_kernel *k, const sl_apsf_medium *m, double T_radius, double distance_ratio,
+                                double focal_px, int rx, int ry, double tolerance, sl_error *err)
+{
+  k->w = NULL;
+  if (!(T_radius >= SL_APSF_BLEND_HI) || !isfinite(T_radius))
+    return sl_fail(err, SL_ERR_ARG, "glow: a sphere seen from outside needs its optical radius >= %g (got %g)",
+                   SL_APSF_BLEND_HI, T_radius);
+  if (!(distance_ratio > 1.0) || !isfinite(distance_ratio))
+    return sl_fail(err, SL_ERR_ARG, "glow: the camera must be outside the sphere (distance ratio %g)", distance_ratio);
+  if (rx < 0 || ry < 0 || (double)(2 * rx + 1) * (2 * ry + 1) > 1e9 || !(focal_px > 0.0))
+    return sl_fail(err, SL_ERR_ARG, "glow: kernel %d x %d or focal length %g out of range", 2 * rx + 1, 2 * ry + 1,
+                   focal_px);
+  sl_apsf_series s;
+  if (sl_apsf_series_init(&s, m, T_radius, tolerance, 0, err)) return err->code;
+  const int nx = 2 * rx + 1, ny = 2 * ry + 1;
+  k->w = malloc(sizeof(double) * (size_t)nx * (size_t)ny);
+  if (!k->w) {
+    sl_apsf_series_free(&s);
+    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d kernel", nx, ny);
+  }
+  /* The unscattered share as in sl_apsf_profile: a Dirac e^{-T}, the series scaled by s. */
+  const double direct = exp(-T_radius), s_frac = fmax(0.0, 1.0 - exp((3.0 * (1.0 - m->albedo) - 1.0) * T_radius));
+  const double scale = s_frac * distance_ratio * distance_ratio * T_radius * T_radius / (4.0 * SL_PI);
+  double sum = 0.0;
+  for (int dy = -ry; dy <= ry; ++dy)
+    for (int dx = -rx; dx <= rx; ++dx) {
+      const int near = dx * dx + dy * dy < NEAR * NEAR;
+      const int sub = near ? SUB : 1;
+      double v = 0.0;
+      for (int j = 0; j < sub; ++j)
+        for (int i = 0; i < sub; ++i) {
+          const double x = dx + (near ? (i + 0.5) / sub - 0.5 : 0.0), y = dy + (near ? (j + 0.5) / sub - 0.5 : 0.0);
+          const double r2 = x * x + y * y;
+          const double mu = sl_apsf_mu_outside(distance_ratio, 1.0, atan(sqrt(r2) / focal_px)); /* eq. 28 */
+          if (mu > -1.5) v += scale * sl_apsf_series_eval(&s, mu) * pixel_solid_angle(focal_px, r2);
+        }
+      v /= sub * sub;
+      if (dx == 0 && dy == 0) v += direct;
+      k->w[(size_t)(dy + ry) * nx + dx + rx] = v;
+      sum += v;
+    }
+  k->rx = rx;
+  k->ry = ry;
+  k->T = T_radius;
+  k->blend = 1.0;
+  k->direct = direct;
+  k->series_scale = s_frac;
+  k->terms = s.terms;
+  k->sum = sum;
+  sl_apsf_series_free(&s);
+  return SL_OK;
+}
+
 struct sl_glow_workspace {
   int width, height, rx, ry, nx, ny;
   double *re;                    /* ny x nx real plane */

@@ -40,6 +40,16 @@ int sl_glow_kernel_build(sl_glow_kernel *k, const sl_apsf_medium *m, double T, d
                          sl_glow_norm norm, double tolerance, sl_error *err);
 void sl_glow_kernel_free(sl_glow_kernel *k);
 
+/* The same for a camera outside a spherical medium with the source at its centre (eq. 28, the
+ * paper's milk bowl): radius R with optical radius T_radius = sigma R >= SL_APSF_BLEND_HI, camera
+ * at distance D = distance_ratio * R (> 1) from the centre, looking at it. A pixel at r pixels
+ * from the centre sees the field leaving the sphere at mu = sl_apsf_mu_outside(D, R, atan(r/f))
+ * (0 where its ray misses the sphere); the radiance is carried unchanged through the clear air
+ * outside, and the weight is relative to the bare source's vacuum fluence I0 / D^2, so the
+ * fluence weight becomes (D/R)^2 T_radius^2 S / (4 pi), with the Dirac e^{-T_radius}. */
+int sl_glow_kernel_build_sphere(sl_glow_kernel *k, const sl_apsf_medium *m, double T_radius, double distance_ratio,
+                                double focal_px, int rx, int ry, double tolerance, sl_error *err);
+
 /* Focal length in pixels of a pinhole with vertical field of view fov_y (radians). */
 double sl_glow_focal_px(int height, double fov_y_rad);
 

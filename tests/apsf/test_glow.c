@@ -304,6 +304,33 @@ static void test_layers(void)
   sl_image_free(&one);
 }
 
+static void test_sphere_from_outside(void)
+{
+  /* Eq. 28 in a kernel: as the camera comes to the sphere's surface (D/R -> 1) the view from
+   * outside becomes the view from inside at T = T_radius (mu -> cos gamma). */
+  const sl_apsf_medium m = {1.0, 0.85, NULL, 0};
+  const double f = sl_glow_focal_px(41, 60.0 * REF_PI / 180.0);
+  sl_glow_kernel in, out;
+  sl_error err = {0};
+  CHECK(sl_glow_kernel_build(&in, &m, 2.0, f, 20, 20, SL_GLOW_FLUENCE, 1e-9, &err) == SL_OK);
+  CHECK(sl_glow_kernel_build_sphere(&out, &m, 2.0, 1.0 + 1e-9, f, 20, 20, 1e-9, &err) == SL_OK);
+  double worst = 0.0;
+  for (int i = 0; i < 41 * 41; ++i) worst = fmax(worst, fabs(in.w[i] - out.w[i]) / in.w[i]);
+  printf("sphere seen from its surface vs from inside: %.3g\n", worst);
+  CHECK(worst < 1e-4);
+  sl_glow_kernel_free(&out);
+  /* Farther away the sphere covers asin(R/D): nothing outside that cone. */
+  CHECK(sl_glow_kernel_build_sphere(&out, &m, 2.0, 3.0, f, 20, 20, 1e-9, &err) == SL_OK);
+  for (int dy = -20; dy <= 20; ++dy)
+    for (int dx = -20; dx <= 20; ++dx) {
+      const double g = atan(sqrt((dx + 0.5) * (dx + 0.5) + (dy + 0.5) * (dy + 0.5)) / f);
+      if (g > asin(1.0 / 3.0) + 0.05) CHECK(out.w[(dy + 20) * 41 + dx + 20] == 0.0);
+    }
+  sl_glow_kernel_free(&out);
+  CHECK(sl_glow_kernel_build_sphere(&out, &m, 1.2, 3.0, f, 20, 20, 1e-9, &err) == SL_ERR_ARG);
+  sl_glow_kernel_free(&in);
+}
+
 static void test_bad_input(void)
 {
   sl_image in = {0}, out = {0};
@@ -342,6 +369,7 @@ int main(void)
   test_point_source();
   test_energy();
   test_layers();
+  test_sphere_from_outside();
   test_bad_input();
   return sl_test_finish("test_glow");
 }
