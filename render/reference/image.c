@@ -104,6 +104,7 @@ typedef struct frame {
   sl_sky_view view;
   double sun[3];
   int sun_up;
+  int sun_mis; /* the sun-directed second strategy is on */
 } frame;
 
 static double sunlight_at(const frame *fr, int w, double z)
@@ -129,6 +130,35 @@ static double sky_from(const frame *fr, int w, const double x[3], const double d
   return rad[w];
 }
 
+/* The second strategy for light that reaches a path through one more scattering (docs/REFERENCE.md,
+ * "Forward peaks and fireflies"). Next-event estimation at a vertex weighs the sun by the phase
+ * function there, P(d . sun), which for cloud droplets reaches 400/sr within a degree of the sun:
+ * a path that happens to head for the sun lights up one sample. So from every vertex x (component
+ * c, throughput beta after its albedo) a direction is also proposed from c's phase function
+ * centred on the sun, tracked to its next collision, and the sun estimated there; the two
+ * strategies for that next vertex are combined with the balance heuristic (Veach 1997), which
+ * is unbiased and bounds the proposal's contribution by about P_c(d . d_sun) instead of
+ * P(d_sun . sun). */
+static double sun_directed_estimate(const frame *fr, int w, const double x[3], const double d[3], int c, double beta,
+                                    sl_ref_rng *rng)
+{
+  const sl_ref_medium *m = fr->m;
+  double ds[3];
+  sl_ref_phase_sample(m, c, w, fr->sun, rng, ds);
+  const double pdf_path = ref_phase_pdf(m, c, w, dot3(d, ds)), pdf_sun = ref_phase_pdf(m, c, w, dot3(fr->sun, ds));
+  const double f = sl_ref_phase_eval(m, c, w, dot3(d, ds));
+  if (!(f > 0.0) || !(pdf_path + pdf_sun > 0.0)) return 0.0;
+  double y[3] = {x[0], x[1], x[2]};
+  if (ref_track(m, w, y, ds, rng, NULL) != TRACK_COLLISION) return 0.0;
+  const int c2 = ref_choose_component(m, w, y, rng);
+  const double p = sl_ref_phase_eval(m, c2, w, dot3(ds, fr->sun));
+  const double e = sunlight_at(fr, w, y[2]);
+  if (!(p > 0.0) || !(e > 0.0)) return 0.0;
+  /* beta f / pdf_sun times the MIS weight pdf_sun / (pdf_path + pdf_sun). */
+  const double throughput = beta * f / (pdf_path + pdf_sun) * m->albedo_eff[c2][w];
+  return throughput * p * e * ref_transmittance(m, w, y, fr->sun, INFINITY, rng);
+}
+
 /* Light scattered toward the eye by the volume along the ray x0 + t d (x0 on or in the box),
  * before any air. *first gets the distance to the first collision (-1 when none). */
 static double path_radiance(const frame *fr, int w, const double x0[3], const double d0[3], sl_ref_rng *rng,
@@ -140,6 +170,9 @@ static double path_radiance(const frame *fr, int w, const double x0[3], const do
   double x[3] = {x0[0], x0[1], x0[2]}, d[3] = {d0[0], d0[1], d0[2]};
   double beta = 1.0, radiance = 0.0;
   int depth = 0;
+  /* Densities with which the current direction d was proposed at the previous vertex by the two
+   * strategies (around the path, around the sun); 0 when d did not come from a scattering. */
+  double pdf_path = 0.0, pdf_sun = 0.0;
   *first = -1.0;
   for (;;) {
     double travelled;
@@ -158,7 +191,9 @@ static double path_radiance(const frame *fr, int w, const double x0[3], const do
        * sunlight at this height times the volume's transparency toward it. */
       const double p = sl_ref_phase_eval(m, c, w, dot3(d, fr->sun));
       const double e = sunlight_at(fr, w, x[2]);
-      if (p > 0.0 && e > 0.0) radiance += beta * p * e * ref_transmittance(m, w, x, fr->sun, INFINITY, rng);
+      /* Balance heuristic against the sun-directed strategy below (1 for the first vertex). */
+      const double mis = pdf_path + pdf_sun > 0.0 ? pdf_path / (pdf_path + pdf_sun) : 1.0;
+      if (p > 0.0 && e > 0.0) radiance += mis * beta * p * e * ref_transmittance(m, w, x, fr->sun, INFINITY, rng);
     }
     if (sc->max_scatter > 0 && depth >= sc->max_scatter) break;
     double q = 1.0;
@@ -168,8 +203,14 @@ static double path_radiance(const frame *fr, int w, const double x0[3], const do
       if (sl_ref_rng_uniform(rng) >= q) break;
       beta /= q;
     }
+    if (fr->sun_mis && (sc->max_scatter == 0 || depth < sc->max_scatter))
+      radiance += sun_directed_estimate(fr, w, x, d, c, beta, rng);
     double nd[3];
     beta *= sl_ref_phase_sample(m, c, w, d, rng, nd);
+    if (fr->sun_mis) {
+      pdf_path = ref_phase_pdf(m, c, w, dot3(d, nd));
+      pdf_sun = ref_phase_pdf(m, c, w, dot3(fr->sun, nd));
+    }
     d[0] = nd[0], d[1] = nd[1], d[2] = nd[2];
   }
   return radiance;
@@ -205,6 +246,7 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
     if (sl_sky_view_init(&fr.view, sc->atmosphere, cam->position, fr.sun, err)) return err->code;
     fr.sun_up = !fr.view.night;
   }
+  fr.sun_mis = fr.sun_up && !sc->next_event_only;
   sl_slicing slicing;
   sl_choose_slicing(fwd, fr.sun, &slicing);
   const double *h = slicing.half_vector;
@@ -216,8 +258,13 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
   const double *o = cam->position;
   const double t_start = omp_get_wtime();
 
-  for (long pass = 0; pass < budget->samples; ++pass) {
-    const long sample = acc->samples;
+  /* Passes are grouped into batches of at least ~64k paths, so that a small image does not pay a
+   * thread start per sample; within a batch each pixel adds its samples in order. */
+  long done = 0;
+  while (done < budget->samples) {
+    long batch = (long)(65536 / np) + 1;
+    if (batch > budget->samples - done) batch = budget->samples - done;
+    const long first_sample = acc->samples;
 #pragma omp parallel for schedule(dynamic, 16)
     for (size_t q = 0; q < np; ++q) {
       double d[3];
@@ -235,27 +282,29 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
         t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
         sl_sky_view_segment(&fr.view, d, 0.0, t_mid, front, front_t);
       }
-      for (int w = 0; w < nw; ++w) {
-        double value = 0.0, transparency = 1.0;
-        if (hit) {
-          sl_ref_rng rng = sl_ref_rng_make(sc->seed, q, (unsigned long long)sample, (unsigned long long)w);
-          const double x0[3] = {o[0] + t0 * d[0], o[1] + t0 * d[1], o[2] + t0 * d[2]};
-          transparency = ref_transmittance(m, w, x0, d, INFINITY, &rng);
-          double first;
-          const double v = path_radiance(&fr, w, x0, d, &rng, &first);
-          value = front_t[w] * v + (1.0 - transparency) * front[w];
-          if (w == 0 && first >= 0.0) {
-            acc->depth_sum[q] += (t0 + first) * dot3(d, fwd);
-            acc->depth_weight[q] += 1.0;
+      const double x0[3] = {o[0] + t0 * d[0], o[1] + t0 * d[1], o[2] + t0 * d[2]};
+      for (long sample = first_sample; sample < first_sample + batch; ++sample)
+        for (int w = 0; w < nw; ++w) {
+          double value = 0.0, transparency = 1.0;
+          if (hit) {
+            sl_ref_rng rng = sl_ref_rng_make(sc->seed, q, (unsigned long long)sample, (unsigned long long)w);
+            transparency = ref_transmittance(m, w, x0, d, INFINITY, &rng);
+            double first;
+            const double v = path_radiance(&fr, w, x0, d, &rng, &first);
+            value = front_t[w] * v + (1.0 - transparency) * front[w];
+            if (w == 0 && first >= 0.0) {
+              acc->depth_sum[q] += (t0 + first) * dot3(d, fwd);
+              acc->depth_weight[q] += 1.0;
+            }
           }
+          acc->sum[q * nw + w] += value;
+          acc->sum2[q * nw + w] += value * value;
+          acc->transparency_sum[q * nw + w] += transparency;
         }
-        acc->sum[q * nw + w] += value;
-        acc->sum2[q * nw + w] += value * value;
-        acc->transparency_sum[q * nw + w] += transparency;
-      }
     }
-    acc->samples++;
-    if (budget->progress) budget->progress(budget->progress_user, (pass + 1.0) / budget->samples);
+    acc->samples += batch;
+    done += batch;
+    if (budget->progress) budget->progress(budget->progress_user, (double)done / budget->samples);
     if (budget->max_seconds > 0.0 && omp_get_wtime() - t_start > budget->max_seconds) break;
   }
   acc->seconds += omp_get_wtime() - t_start;

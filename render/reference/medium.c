@@ -175,6 +175,20 @@ static double phase_sample_mu(const phase_sampler *ps, sl_ref_rng *rng, double *
   return 0.0;
 }
 
+double ref_phase_pdf(const sl_ref_medium *m, int c, int w, double mu)
+{
+  const phase_sampler *ps = &m->phase[c][w];
+  if (ps->kind != SL_REF_PHASE_TABLE) return phase_value(ps, mu);
+  /* The table's sampler: the cell's probability spread uniformly over its solid angle. */
+  const sl_phase_table *t = ps->table;
+  const double theta = acos(mu > 1.0 ? 1.0 : mu < -1.0 ? -1.0 : mu);
+  int j = (int)(theta * t->inv_step_rad);
+  j = j < 0 ? 0 : j > t->n_angles - 2 ? t->n_angles - 2 : j;
+  const double a = j * t->step_rad, b = (j + 1 == t->n_angles - 1) ? SL_PI : (j + 1) * t->step_rad;
+  const double band = 2.0 * SL_PI * (cos(a) - cos(b));
+  return band > 0.0 ? (ps->cdf[j + 1] - ps->cdf[j]) / band : 0.0;
+}
+
 double sl_ref_phase_eval(const sl_ref_medium *m, int c, int w, double cos_theta)
 {
   return phase_value(&m->phase[c][w], cos_theta);
@@ -394,6 +408,7 @@ sl_ref_medium *sl_ref_medium_create(const sl_ref_medium_desc *d, sl_error *err)
         lo = fmax(m->lo[a], d->origin[a] + (mn[a] - 1) * d->spacing[a]);
         hi = fmin(m->hi[a], d->origin[a] + (mx[a] + 1) * d->spacing[a]);
       }
+      m->content_lo[a] = lo, m->content_hi[a] = hi;
       m->content_center[a] = 0.5 * (lo + hi);
     }
   }
@@ -448,4 +463,10 @@ void sl_ref_medium_bounds(const sl_ref_medium *m, double lo[3], double hi[3])
 {
   memcpy(lo, m->lo, 3 * sizeof(double));
   memcpy(hi, m->hi, 3 * sizeof(double));
+}
+
+void sl_ref_medium_content_bounds(const sl_ref_medium *m, double lo[3], double hi[3])
+{
+  memcpy(lo, m->content_lo, 3 * sizeof(double));
+  memcpy(hi, m->content_hi, 3 * sizeof(double));
 }

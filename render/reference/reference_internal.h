@@ -20,6 +20,7 @@ struct sl_ref_medium {
   sl_ref_medium_desc desc;
   int nw, nc;
   double lo[3], hi[3], size[3];
+  double content_lo[3], content_hi[3];
   double content_center[3];        /* centre of the box around non-empty samples (renderer's midplane anchor) */
   float *extinction[SL_REF_MAX_WAVELENGTHS];  /* effective total extinction per sample, m^-1 */
   sl_grid_view extinction_view[SL_REF_MAX_WAVELENGTHS];
@@ -53,6 +54,8 @@ int ref_choose_component(const sl_ref_medium *m, int w, const double x[3], sl_re
 /* Parametric interval of the ray o + t d in the box; 0 when it misses. */
 int ref_ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
                 double *t1);
+/* The density (1/sr) with which sl_ref_phase_sample draws a direction at cosine mu from the axis. */
+double ref_phase_pdf(const sl_ref_medium *m, int c, int w, double mu);
 /* A unit vector at angle acos(mu) from d, azimuth uniform. */
 void ref_rotate(const double d[3], double mu, double phi, double out[3]);
 

@@ -98,6 +98,9 @@ void sl_ref_medium_destroy(sl_ref_medium *m);
 int sl_ref_medium_wavelength_count(const sl_ref_medium *m);
 double sl_ref_medium_wavelength(const sl_ref_medium *m, int w);
 void sl_ref_medium_bounds(const sl_ref_medium *m, double lo[3], double hi[3]);
+/* The box around samples with extinction, one cell of margin (the whole box when all are empty):
+ * sl_renderer_content_bounds's definition, so sl_camera_frame frames both renderers alike. */
+void sl_ref_medium_content_bounds(const sl_ref_medium *m, double lo[3], double hi[3]);
 /* Extinction (m^-1) at x for wavelength w with the forward Dirac of tabulated phase functions
  * removed (sigma (1 - albedo f), docs/REFERENCE.md "Forward peaks"); 0 outside the box. */
 double sl_ref_extinction(const sl_ref_medium *m, int w, const double x[3]);
@@ -156,6 +159,12 @@ typedef struct sl_ref_scene {
   int skylight;        /* 1: scattered paths that leave the box collect the sky (issue 7, item 2) */
   int max_scatter;     /* 0: unlimited; 1: single scattering; n: at most n scatterings */
   int roulette_depth;  /* scatterings before Russian roulette may end a path; 0: 16 */
+  /* 1: next-event estimation of the sun alone. By default every scattering also proposes a
+   * direction from its phase function centred on the sun and combines the two estimates of the
+   * next vertex's sunlight by multiple importance sampling (docs/REFERENCE.md): without it,
+   * strongly forward-peaked phase functions (cloud droplets: 400/sr within a degree) make
+   * fireflies. Both are unbiased. */
+  int next_event_only;
   unsigned long long seed;
 } sl_ref_scene;
 
