@@ -195,6 +195,31 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     }
     r->beta[i] = (float)total;
   }
+  /* Brick occupancy for empty-space skipping inside the content box. */
+  {
+    const sl_volume *v = &r->shape;
+    const int n[3] = {v->nx, v->ny, v->nz};
+    for (int a = 0; a < 3; ++a) r->bricks[a] = (n[a] + 7) / 8;
+    r->occupied = calloc((size_t)r->bricks[0] * r->bricks[1] * r->bricks[2], 1);
+    if (!r->occupied) {
+      sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
+      sl_renderer_destroy(r);
+      return NULL;
+    }
+    for (int k = 0; k < v->nz; ++k)
+      for (int j = 0; j < v->ny; ++j)
+        for (int i = 0; i < v->nx; ++i) {
+          if (!(r->beta[sl_volume_index(v, i, j, k)] > 0.0f)) continue;
+          /* A sample feeds the trilinear cells whose lower corner is itself or one below it. */
+          for (int dk = -1; dk <= 0; ++dk)
+            for (int dj = -1; dj <= 0; ++dj)
+              for (int di = -1; di <= 0; ++di) {
+                const int ii = i + di, jj = j + dj, kk = k + dk;
+                if (ii < 0 || jj < 0 || kk < 0) continue;
+                r->occupied[((size_t)(kk / 8) * r->bricks[1] + jj / 8) * r->bricks[0] + ii / 8] = 1;
+              }
+        }
+  }
   sl_renderer_content_bounds(r, r->clo, r->chi);
   for (int a = 0; a < 3; ++a) r->content_center[a] = 0.5 * (r->clo[a] + r->chi[a]);
   return r;
@@ -207,6 +232,7 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r->beta);
   free(r->fields);
   free(r->light_volume);
+  free(r->occupied);
   free(r);
 }
 
@@ -320,6 +346,10 @@ int sl__sample_fields(const sl_renderer *r, const double x[3], float *out)
     if (i < 0) i = 0;
     i0[a] = i;
     f[a] = g->n[a] > 1 ? u - i : 0.0;
+  }
+  if (!r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8]) {
+    for (int j = 0; j < nf; ++j) out[j] = 0.0f;
+    return 0;
   }
   const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
   const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
@@ -457,7 +487,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       res = (int)ceil(extent / texel);
       /* Shadows finer than twice the image's resolution cannot be seen. */
       const int side = img->width > img->height ? img->width : img->height;
-      const int image_limit = 2 * side > 512 ? 2 * side : 512;
+      const int image_limit = side > 512 ? side : 512;
       if (res > image_limit) res = image_limit;
       res = res < 64 ? 64 : res > 2048 ? 2048 : res;
     }

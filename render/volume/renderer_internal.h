@@ -16,6 +16,9 @@ struct sl_renderer {
   sl_light_model model;
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
   int spectral;
+  unsigned char *occupied;  /* per 8^3 brick: any non-zero extinction within it or one sample
+                               around it (the trilinear footprint); empty bricks are skipped */
+  int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
