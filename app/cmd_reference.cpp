@@ -17,10 +17,13 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "scene.h"
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
 #include "sl_storm.h"
+
+bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
 
 namespace {
 
@@ -139,6 +142,7 @@ struct Scene {
   sl_ref_medium *medium = nullptr;
   sl_atmosphere atmosphere{};
   bool with_air = false;
+  double sky[3] = {0, 0, 0};  // without air: the constant sky (render's --sky)
   double sun_zenith = 0, sun_azimuth = 0;
   sl_camera camera{};
   bool have_camera = false;
@@ -295,6 +299,111 @@ void parse_point(const cJSON *root, Scene *s)
   s->point.photons = (long)number(p, "photons", 100000);
 }
 
+// A `stormlight render` scene (docs/SCENES.md: a JSON object of render's options) drawn by the
+// reference with render's defaults, so that `validate` can give both renderers one scene: the same
+// storm, sun, air and camera. Render's own settings (lighting, slices, ...) are accepted and unused.
+void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool quiet)
+{
+  std::vector<std::string> args;
+  std::string why;
+  if (!sl::scene_to_arguments(path, &args, &why)) throw SceneError{why};
+  sl::Options o("reference", "", "");
+  for (const char *k : {"out", "slices", "light-resolution", "lighting", "xi", "exposure", "threads"}) o.option(k, "X", "");
+  for (const char *k : {"light-volume", "float"}) o.flag(k, "");
+  o.option("time", "N", "", "0");
+  o.option("width", "PX", "", "512");
+  o.option("height", "PX", "", "512");
+  o.option("sun-azimuth", "DEG", "");
+  o.option("sun-elevation", "DEG", "");
+  o.option("date", "ISO8601", "");
+  o.option("earth", "flat|round", "", "round");
+  o.option("wavelengths", "SET", "", "rgb");
+  o.flag("no-atmosphere", "");
+  o.option("camera-position", "X,Y,Z", "");
+  o.option("camera-target", "X,Y,Z", "");
+  o.option("view-azimuth", "DEG", "", "200");
+  o.option("view-elevation", "DEG", "", "12");
+  o.option("fov", "DEG", "", "40");
+  o.option("sky", "R,G,B", "", "0.035,0.055,0.10");
+  o.option("dz", "M", "", "0");
+  std::vector<std::string> all = {"reference"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char *> cargv;
+  for (std::string &a : all) cargv.push_back(&a[0]);
+  if (!o.parse((int)cargv.size(), cargv.data())) throw SceneError{o.error()};
+  if (o.positional().size() != 1) throw SceneError{"the scene names no \"data\" file"};
+  const std::string file = o.positional()[0];
+  long time_index, width, height;
+  double dz, view_az, view_el, fov;
+  if (!o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) || !o.integer("width", &width, 1, 16384) ||
+      !o.integer("height", &height, 1, 16384) || !o.number("dz", &dz) || !o.number("view-azimuth", &view_az) ||
+      !o.number("view-elevation", &view_el) || !o.number("fov", &fov))
+    throw SceneError{o.error()};
+  sl_load_options load{(int)time_index, dz};
+  if (sl_storm_load(file.c_str(), &load, &s->frame, err)) throw SceneError{err->message};
+  s->have_frame = true;
+  // The sun as render places it: given angles, --date, or the file's own time over the grid's centre.
+  double sun_el, sun_az;
+  if (o.has("sun-azimuth") || o.has("sun-elevation")) {
+    if (!o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el)) throw SceneError{o.error()};
+  } else {
+    sl_utc date{};
+    if (o.has("date")) {
+      if (!sl_parse_iso8601_utc(o.str("date"), &date, &why)) throw SceneError{"date: " + why};
+    } else {
+      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+      if (sl_storm_read_info(file.c_str(), info.get(), err) || !info->has_times)
+        throw SceneError{file + ": the file has no times: give sun-azimuth/sun-elevation or date"};
+      std::string t = info->times[time_index];
+      for (char &ch : t)
+        if (ch == '_') ch = 'T';
+      if (!sl_parse_iso8601_utc(t + "Z", &date, &why)) throw SceneError{file + ": time is not a date-time: " + why};
+    }
+    sl_solar_position pos;
+    if (sl_solar_position_compute(&date, s->frame.center_lat, s->frame.center_lon, nullptr, &pos, err))
+      throw SceneError{err->message};
+    sun_el = pos.elevation_deg, sun_az = pos.azimuth_deg;
+  }
+  s->sun_zenith = 90.0 - sun_el, s->sun_azimuth = sun_az;
+  const std::string wl = o.str("wavelengths");
+  if (wl != "rgb" && wl != "spectral") throw SceneError{"wavelengths must be rgb or spectral"};
+  sl_optics_request req;
+  sl_optics_request_defaults(&req);
+  req.particles = 0;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    if (s->frame.volume.eta[p]) req.particles |= 1u << p;
+  if (sl_optics_request_wavelengths(&req, wl == "rgb" ? "rgb" : "spectral16", err)) throw SceneError{err->message};
+  sl::Progress progress("tables", !quiet);
+  req.progress = progress_hook;
+  req.progress_user = &progress;
+  s->optics.reset(sl_optics_build(&req, err));
+  progress.done();
+  if (!s->optics) throw SceneError{std::string("particle tables: ") + err->message};
+  s->medium = sl_ref_medium_from_volume(&s->frame.volume, s->optics.get(), err);
+  if (!s->medium) throw SceneError{err->message};
+  s->with_air = !o.has("no-atmosphere");
+  if (s->with_air) {
+    std::vector<double> nm(sl_ref_medium_wavelength_count(s->medium));
+    for (size_t w = 0; w < nm.size(); ++w) nm[w] = sl_ref_medium_wavelength(s->medium, (int)w);
+    if (o.str("earth") != "flat" && o.str("earth") != "round") throw SceneError{"earth must be flat or round"};
+    if (sl_atmosphere_init(&s->atmosphere, nm.data(), (int)nm.size(),
+                           o.str("earth") == "flat" ? SL_EARTH_FLAT : SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, err))
+      throw SceneError{err->message};
+  } else {
+    if (wl != "rgb") throw SceneError{"no-atmosphere needs wavelengths rgb"};
+    std::vector<double> sky;
+    if (!o.list("sky", &sky) || sky.size() != 3) throw SceneError{"sky must be R,G,B"};
+    for (int c = 0; c < 3; ++c) s->sky[c] = sky[c];
+  }
+  double lo[3], hi[3];
+  sl_ref_medium_content_bounds(s->medium, lo, hi);
+  sl_camera_frame(lo, hi, view_az, view_el, fov, (int)width, (int)height, &s->camera);
+  if (o.has("camera-target") && !o.vec3("camera-target", s->camera.target)) throw SceneError{o.error()};
+  if (o.has("camera-position") && !o.vec3("camera-position", s->camera.position)) throw SceneError{o.error()};
+  s->have_camera = true;
+  s->kind = "storm";
+}
+
 bool load_scene(const std::string &path, Scene *s, std::string *why, bool quiet)
 {
   std::ifstream in(path);
@@ -313,7 +422,8 @@ bool load_scene(const std::string &path, Scene *s, std::string *why, bool quiet)
   sl_error err{};
   try {
     s->kind = text(root.get(), "kind", "");
-    if (s->kind == "medium") parse_medium(root.get(), path, s, &err);
+    if (s->kind.empty() && member(root.get(), "data")) parse_render_scene(path, s, &err, quiet);
+    else if (s->kind == "medium") parse_medium(root.get(), path, s, &err);
     else if (s->kind == "storm") parse_storm(root.get(), path, s, &err, quiet);
     else if (s->kind == "point") parse_point(root.get(), s);
     else throw SceneError{"\"kind\" must be storm, medium or point"};
@@ -324,14 +434,13 @@ bool load_scene(const std::string &path, Scene *s, std::string *why, bool quiet)
   return true;
 }
 
-int write_exr(const std::string &file, const sl_image &img, std::string *why)
+int write_exr(const std::string &file, const sl_image &img, std::string *why, float exposure = 12.0f)
 {
   sl_error err{};
-  if (!ends_with(file, ".exr")) {
-    *why = file + ": the file name must end in .exr";
-    return 1;
-  }
-  if (sl_write_exr(file.c_str(), &img, SL_EXR_FLOAT, &err)) {
+  // A PNG (tone-mapped, for looking at) where the name asks for one; the reference itself is the EXR.
+  const int status = ends_with(file, ".png") ? sl_write_png(file.c_str(), &img, exposure, &err)
+                                             : sl_write_exr(file.c_str(), &img, SL_EXR_FLOAT, &err);
+  if (status) {
     *why = err.message;
     return 1;
   }
@@ -359,13 +468,15 @@ int sl_cmd_reference(int argc, char **argv)
                 "only in how multiple scattering is treated. Scene kinds: \"storm\" (a WRF file and a camera:\n"
                 "image), \"medium\" (extinction given directly: --fluxes gives domain-averaged reflectance,\n"
                 "transmittance and absorptance with standard errors; with a camera, an image), \"point\"\n"
-                "(a point source in an infinite medium: angular radiance at optical distance T).\n"
+                "(a point source in an infinite medium: angular radiance at optical distance T). A scene of\n"
+                "`stormlight render` (docs/SCENES.md, a \"data\" key and no \"kind\") is drawn with render's\n"
+                "defaults: the same storm, sun, air and camera.\n"
                 "Images: --out is the frame (volume layer over sky and sun), --stderr-out the standard error\n"
                 "of each pixel's mean. Results are reproducible for a --seed and any number of threads.");
   o.option("scene", "FILE", "scene file (JSON; docs/REFERENCE.md)");
   o.option("spp", "N", "samples per pixel and wavelength", "64");
   o.option("seconds", "T", "stop after whole passes once T seconds have passed (0: no limit)", "0");
-  o.option("out", "FILE.exr", "the reference frame (float EXR)");
+  o.option("out", "FILE.exr", "the reference frame (float EXR; .png: tone-mapped with exposure 12)");
   o.option("layer-out", "FILE.exr", "the volume layer alone (premultiplied, with transparency), as render/volume's");
   o.option("stderr-out", "FILE.exr", "per-pixel standard error of the frame's R, G, B");
   o.flag("fluxes", "medium scenes: reflectance, transmittance, absorptance of the collimated sun");
@@ -388,8 +499,8 @@ int sl_cmd_reference(int argc, char **argv)
   if (threads > 0) omp_set_num_threads((int)threads);
   const bool quiet = o.has("quiet") || o.has("json");
   for (const char *f : {"out", "layer-out", "stderr-out"})
-    if (o.has(f) && !ends_with(o.str(f), ".exr"))
-      return sl::fail(kCmd, o.str(f) + ": the file name must end in .exr", 2);
+    if (o.has(f) && !ends_with(o.str(f), ".exr") && !ends_with(o.str(f), ".png"))
+      return sl::fail(kCmd, o.str(f) + ": the file name must end in .exr (or .png, tone-mapped)", 2);
 
   Scene s;
   std::string why;
@@ -484,6 +595,7 @@ int sl_cmd_reference(int argc, char **argv)
   sc.medium = s.medium;
   sl_sun_direction(90.0 - s.sun_zenith, s.sun_azimuth, sc.sun_direction);
   sc.atmosphere = s.with_air ? &s.atmosphere : nullptr;
+  for (int c = 0; c < 3; ++c) sc.sky_radiance[c] = s.sky[c];
   sc.skylight = s.skylight;
   sc.max_scatter = s.max_scatter;
   sc.seed = (unsigned long long)seed;
