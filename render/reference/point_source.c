@@ -84,12 +84,14 @@ static int trace_photon(const sl_ref_point_options *o, long index, double *bin_t
     for (int a = 0; a < 3; ++a) x[a] += s * d[a];
     weight *= o->albedo;
     ++scatterings;
-    /* Roulette: low weights, and photons well outside the sphere (they may come back, so they
-     * are not dropped, only played for). */
+    /* Roulette: low weights, and photons far outside the sphere. They may come back, so they are
+     * played for, not dropped; far enough (8 transport mean free paths) that returns are rare,
+     * because a survivor's grown weight is what it brings back (roulette nearer made bins with
+     * single heavy tallies). */
     const double r = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     double q = 1.0;
     if (weight < ROULETTE_WEIGHT) q = weight / ROULETTE_WEIGHT;
-    if (r > R + 2.0 * transport_mfp) q *= 0.8;
+    if (r > R + 8.0 * transport_mfp) q *= 0.5;
     if (q < 1.0) {
       if (sl_ref_rng_uniform(&rng) >= q) break;
       weight /= q;
