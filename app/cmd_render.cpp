@@ -21,6 +21,9 @@
 #include "composite_pass.h"
 #include "scene.h"
 #include <cjson/cJSON.h>
+#ifndef SL_WITHOUT_APSF
+#include "sl_glow.h"
+#endif
 #include "sl_image_io.h"
 #include "sl_renderer.h"
 #include "sl_optics.h"
@@ -141,6 +144,10 @@ static int render_main(int argc, char **argv)
            "forward-only light buffer discards (0 for thin media)", "0.05");
   o.option("wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
            "rgb");
+  o.option("fog-visibility-km", "V", "glows (Narasimhan et al.) of bright sources seen through fog of small droplets "
+           "(cloud tables) with this visibility; 0 = none", "0");
+  o.option("fog-depth-km", "D", "with fog: how deep the fog bank in front of the camera is (what lies farther is seen "
+           "through all of it)", "2");
   o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");
   o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
   o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
@@ -209,6 +216,9 @@ static int render_main(int argc, char **argv)
   double xi;
   if (!o.number("xi", &xi) || xi < 0) return sl::fail(cmd, "--xi must be a number >= 0", 2);
   if (spectral && o.has("no-atmosphere")) return sl::fail(cmd, "--wavelengths spectral needs the atmosphere", 2);
+  double fog_km, fog_sky_km;
+  if (!o.number("fog-visibility-km", &fog_km) || fog_km < 0 || !o.number("fog-depth-km", &fog_sky_km) || fog_sky_km <= 0)
+    return sl::fail(cmd, "--fog-visibility-km must be >= 0 and --fog-depth-km > 0", 2);
   sl_utc date{};
   if (o.has("date")) {
     std::string why;
@@ -350,6 +360,52 @@ static int render_main(int argc, char **argv)
       goto done;
     }
   }
+#ifdef SL_WITHOUT_APSF
+  if (fog_km > 0) {
+    rc = sl::fail(cmd, "--fog-visibility-km needs the glow module (render/apsf), which this build left out", 2);
+    goto done;
+  }
+#else
+  if (fog_km > 0) {
+    // Fog: small droplets, so the cloud tables' moments and albedos per channel (render/optics);
+    // extinction from the visibility by Koschmieder's 2 % contrast threshold, 3.912 / V.
+    sl_optics_request req;
+    sl_optics_request_defaults(&req);
+    req.particles = 1u << SL_CLOUD;
+    std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> fog_tables(sl_optics_build(&req, &err),
+                                                                              sl_optics_free);
+    if (!fog_tables) {
+      rc = sl::fail(cmd, std::string("fog tables: ") + err.message);
+      goto done;
+    }
+    sl_glow_params gp;
+    sl_glow_params_defaults(&gp);
+    sl_apsf_medium media[3];
+    for (int c = 0; c < 3; ++c) {
+      const sl_phase_table *t = sl_optics_table(fog_tables.get(), SL_CLOUD, c);
+      media[c] = sl_apsf_medium{t->albedo, t->moments[1], t->moments, t->n_moments};
+      gp.channel_medium[c] = &media[c];
+    }
+    gp.medium = media[1];
+    gp.sigma = 3.912 / (fog_km * 1000.0);
+    gp.sky_distance = fog_sky_km * 1000.0;
+    /* A fog bank of that depth in front of the camera: farther things are seen through all of it
+     * (the glow model reads each pixel's depth as its distance inside the medium). */
+    std::vector<float> saved_depth(frame_img.depth, frame_img.depth + (size_t)cam.width * cam.height);
+    for (size_t i = 0; i < saved_depth.size(); ++i)
+      if (!(frame_img.depth[i] < gp.sky_distance)) frame_img.depth[i] = (float)gp.sky_distance;
+    gp.fov_y_deg = cam.fov_deg;
+    gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk, lights */
+    sl_glow_workspace *ws = sl_glow_workspace_create(cam.width, cam.height, 0, 0, &err);
+    const int g = ws ? sl_glow_apply(ws, &gp, &frame_img, &frame_img, nullptr, &err) : 1;
+    sl_glow_workspace_free(ws);
+    std::copy(saved_depth.begin(), saved_depth.end(), frame_img.depth);
+    if (g) {
+      rc = sl::fail(cmd, std::string("fog glow: ") + err.message);
+      goto done;
+    }
+  }
+#endif
   t_composite = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
   for (const std::string &f : outs) {

@@ -14,7 +14,7 @@ namespace {
 const char *const kKeys[] = {"data", "time", "width", "height", "slices", "light-resolution", "sun-azimuth",
                              "sun-elevation", "date", "earth", "camera-position", "camera-target", "view-azimuth",
                              "view-elevation", "fov", "exposure", "xi", "lighting", "wavelengths", "light-volume",
-                             "no-atmosphere", "sky", "dz", "float", "threads", "out"};
+                             "no-atmosphere", "sky", "dz", "float", "threads", "out", "fog-visibility-km", "fog-depth-km"};
 
 bool known(const char *key)
 {

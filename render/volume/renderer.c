@@ -806,3 +806,12 @@ void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg,
   cam->width = width;
   cam->height = height;
 }
+
+int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
+{
+  double fwd[3], right[3], up[3];
+  if (sl__camera_basis(cam, fwd, right, up)) return 1;
+  sl__pixel_ray(fwd, right, up, tan(0.5 * cam->fov_deg * M_PI / 180.0), (double)cam->width / cam->height, cam->width,
+                cam->height, px, py, d);
+  return 0;
+}

@@ -109,6 +109,10 @@ void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg,
 /* Unit vector toward a sun at compass azimuth (clockwise from north) and elevation, degrees. */
 void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
 
+/* The ray through pixel (px, py) of the pinhole camera (unit direction, world frame): the one
+ * every renderer of the project uses. Returns 1 for a degenerate camera. */
+int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3]);
+
 /* Kniss et al.'s half-angle choice: h = normalize(v + p) when the view vector v and the light's
  * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye
  * compositing back to front. Never degenerate: |±v + p| >= sqrt(2). */

@@ -68,6 +68,7 @@ name=nan_field; make_nc "" "" 1
 # P alone missing: drop its declaration and data.
 cdl "" "" "" | grep -v -E "^\s*(float P\(|P = )" >"$work/nop.cdl" && ncgen -4 -o "$work/no_p.nc" "$work/nop.cdl"
 echo "this is not a NetCDF file" >"$work/text.nc"
+printf '{"data": "good.nc", "colour": 3}\n' >"$work/bad_scene.json"
 head -c 20000 "$datasets/cumulonimbus.nc" >"$work/truncated.nc"
 
 out="$work/out/frame.exr,$work/out/frame.png"
@@ -83,6 +84,9 @@ expect_failure "unwritable output" "nonexistent-dir" "$sl" render "$work/good.nc
 expect_failure "bad output type" "must end in .exr or .png" "$sl" render "$work/good.nc" --out "$work/out/x.jpg" --cpu-composite
 expect_failure "absurd size" "width" "$sl" render "$work/good.nc" --out "$out" --width 0 --cpu-composite
 expect_failure "absurd slices" "slices" "$sl" render "$work/good.nc" --out "$out" --slices 999999 --cpu-composite
+expect_failure "negative fog visibility" "fog-visibility-km" "$sl" render "$work/good.nc" --out "$out" --fog-visibility-km -1 --cpu-composite
+expect_failure "unknown scene key" "bad_scene.json.*unknown scene key 'colour'" "$sl" render --scene "$work/bad_scene.json" --out "$out" --cpu-composite
+expect_failure "scene not JSON" "text.nc.*not a JSON object" "$sl" render --scene "$work/text.nc" --out "$out" --cpu-composite
 expect_failure "time out of range" "time index 3" "$sl" render "$work/good.nc" --out "$out" --time 3 --cpu-composite
 expect_failure "info on text" "text.nc" "$sl" info "$work/text.nc"
 expect_failure "no hydrometeors" "no_hydrometeors.nc.*no hydrometeor variables" "$sl" info "$work/no_hydrometeors.nc" --json
