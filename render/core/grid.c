@@ -92,3 +92,26 @@ double sl_grid_sample(const sl_grid_view *g, const double p[3])
   const double c1 = c01 + f[1] * (c11 - c01);
   return c0 + f[2] * (c1 - c0);
 }
+
+int sl_ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
+                   double *t1)
+{
+  double a = -INFINITY, b = INFINITY;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return 0;
+      continue;
+    }
+    double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
+    if (ta > tb) {
+      const double s = ta;
+      ta = tb;
+      tb = s;
+    }
+    if (ta > a) a = ta;
+    if (tb < b) b = tb;
+  }
+  *t0 = a;
+  *t1 = b;
+  return b > a;
+}

@@ -44,6 +44,10 @@ typedef struct sl_grid_view {
   double lo[3], hi[3];
 } sl_grid_view;
 
+/* Parametric interval [t0, t1] where the ray o + t d lies in the box [lo, hi] (slab method;
+ * d need not be unit; a zero component requires o inside that slab). Returns 0 when it misses. */
+int sl_ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0, double *t1);
+
 void sl_grid_view_init(sl_grid_view *g, const float *data, const sl_volume *shape);
 double sl_grid_sample(const sl_grid_view *g, const double p[3]);
 

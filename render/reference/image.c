@@ -20,12 +20,6 @@
 #define DEEP_SURVIVAL 0.98
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
-}
 static int normalize3(double v[3])
 {
   const double n = sqrt(dot3(v, v));
@@ -42,35 +36,8 @@ void sl_ref_scene_defaults(sl_ref_scene *s)
   s->seed = 1;
 }
 
-/* render/volume's camera_basis and pixel_ray, reproduced: pixel centres on an image plane at
- * distance 1 along the view direction. */
-static int camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
-{
-  for (int a = 0; a < 3; ++a) fwd[a] = cam->target[a] - cam->position[a];
-  if (normalize3(fwd)) return 1;
-  cross3(fwd, cam->up, right);
-  if (normalize3(right)) return 1;
-  cross3(right, fwd, up);
-  return 0;
-}
-
-static void pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
-                      int width, int height, int px, int py, double d[3])
-{
-  const double sx = (2.0 * (px + 0.5) / width - 1.0) * tan_half * aspect;
-  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;
-  for (int a = 0; a < 3; ++a) d[a] = fwd[a] + sx * right[a] + sy * up[a];
-  normalize3(d);
-}
-
-int sl_ref_pixel_ray(const sl_camera *cam, int px, int py, double d[3])
-{
-  double fwd[3], right[3], up[3];
-  if (camera_basis(cam, fwd, right, up)) return 1;
-  const double tan_half = tan(0.5 * cam->fov_deg * SL_PI / 180.0);
-  pixel_ray(fwd, right, up, tan_half, (double)cam->width / cam->height, cam->width, cam->height, px, py, d);
-  return 0;
-}
+/* The project's one pinhole camera (render/volume's sl_camera_ray): same pixel, same ray. */
+int sl_ref_pixel_ray(const sl_camera *cam, int px, int py, double d[3]) { return sl_camera_ray(cam, px, py, d); }
 
 int sl_ref_accum_init(sl_ref_accum *a, int width, int height, int n_wavelengths, sl_error *err)
 {
@@ -235,8 +202,8 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
         return sl_fail(err, SL_ERR_ARG, "reference: atmosphere wavelength %d is %g nm, the medium's %g nm", w,
                        sc->atmosphere->wavelength_nm[w], m->desc.wavelength_nm[w]);
   }
-  double fwd[3], right[3], up[3];
-  if (camera_basis(cam, fwd, right, up))
+  double probe[3];
+  if (sl_camera_ray(cam, 0, 0, probe))
     return sl_fail(err, SL_ERR_ARG, "reference: camera position equals the target, or up is parallel to the view");
   frame fr = {.sc = sc, .m = m};
   memcpy(fr.sun, sc->sun_direction, sizeof fr.sun);
@@ -247,12 +214,13 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
     fr.sun_up = !fr.view.night;
   }
   fr.sun_mis = fr.sun_up && !sc->next_event_only;
+  /* The midplane the fast renderer splits the air at: perpendicular to its slicing axis. */
+  double fwd[3] = {cam->target[0] - cam->position[0], cam->target[1] - cam->position[1], cam->target[2] - cam->position[2]};
+  normalize3(fwd);
   sl_slicing slicing;
   sl_choose_slicing(fwd, fr.sun, &slicing);
   const double *h = slicing.half_vector;
   const double h_center = dot3(h, m->content_center), h_o = dot3(h, cam->position);
-  const double tan_half = tan(0.5 * cam->fov_deg * SL_PI / 180.0);
-  const double aspect = (double)cam->width / cam->height;
   const int nw = m->nw;
   const size_t np = (size_t)cam->width * cam->height;
   const double *o = cam->position;
@@ -268,10 +236,9 @@ int sl_ref_render(const sl_ref_scene *sc, const sl_camera *cam, const sl_ref_bud
 #pragma omp parallel for schedule(dynamic, 16)
     for (size_t q = 0; q < np; ++q) {
       double d[3];
-      pixel_ray(fwd, right, up, tan_half, aspect, cam->width, cam->height, (int)(q % cam->width),
-                (int)(q / cam->width), d);
+      sl_camera_ray(cam, (int)(q % cam->width), (int)(q / cam->width), d);
       double t0, t1;
-      const int hit = ref_ray_box(m->lo, m->hi, o, d, &t0, &t1) && t1 > 0.0;
+      const int hit = sl_ray_box(m->lo, m->hi, o, d, &t0, &t1) && t1 > 0.0;
       if (t0 < 0.0) t0 = 0.0;
       double front[SL_SKY_MAX_WAVELENGTHS] = {0}, front_t[SL_SKY_MAX_WAVELENGTHS];
       for (int w = 0; w < nw; ++w) front_t[w] = 1.0;
@@ -371,23 +338,20 @@ int sl_ref_background(const sl_ref_scene *sc, const sl_camera *cam, sl_image *im
   const int nw = m->nw;
   double wt[3 * SL_REF_MAX_WAVELENGTHS];
   if (channel_weights(m, wt, err)) return err->code;
-  double fwd[3], right[3], up[3];
-  if (camera_basis(cam, fwd, right, up))
+  double probe[3];
+  if (sl_camera_ray(cam, 0, 0, probe))
     return sl_fail(err, SL_ERR_ARG, "reference background: camera position equals the target, or up is parallel");
   double sun[3] = {sc->sun_direction[0], sc->sun_direction[1], sc->sun_direction[2]};
   if (normalize3(sun)) return sl_fail(err, SL_ERR_ARG, "reference background: the sun direction is zero");
   sl_sky_view view;
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sun, err)) return err->code;
-  const double tan_half = tan(0.5 * cam->fov_deg * SL_PI / 180.0);
-  const double aspect = (double)cam->width / cam->height;
   const size_t np = (size_t)img->width * img->height;
 #pragma omp parallel for schedule(static)
   for (size_t q = 0; q < np; ++q) {
     double L[SL_SKY_MAX_WAVELENGTHS] = {0};
     if (sc->atmosphere) {
       double d[3], disk[SL_SKY_MAX_WAVELENGTHS];
-      pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
-                (int)(q / img->width), d);
+      sl_camera_ray(cam, (int)(q % img->width), (int)(q / img->width), d);
       sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sun, disk))
         for (int w = 0; w < nw; ++w) L[w] += disk[w];

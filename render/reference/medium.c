@@ -37,27 +37,6 @@ double sl_ref_rng_uniform(sl_ref_rng *r)
 
 /* ---- geometry -------------------------------------------------------------------------------- */
 
-int ref_ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0, double *t1)
-{
-  double a = -INFINITY, b = INFINITY;
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0.0) {
-      if (o[i] < lo[i] || o[i] > hi[i]) return 0;
-      continue;
-    }
-    double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
-    if (ta > tb) {
-      const double s = ta;
-      ta = tb;
-      tb = s;
-    }
-    if (ta > a) a = ta;
-    if (tb < b) b = tb;
-  }
-  *t0 = a;
-  *t1 = b;
-  return b > a;
-}
 
 void ref_rotate(const double d[3], double mu, double phi, double out[3])
 {

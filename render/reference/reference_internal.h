@@ -51,9 +51,6 @@ double ref_transmittance(const sl_ref_medium *m, int w, const double x[3], const
                          sl_ref_rng *rng);
 /* The scattering component hit at x, chosen in proportion to its extinction there. */
 int ref_choose_component(const sl_ref_medium *m, int w, const double x[3], sl_ref_rng *rng);
-/* Parametric interval of the ray o + t d in the box; 0 when it misses. */
-int ref_ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
-                double *t1);
 /* The density (1/sr) with which sl_ref_phase_sample draws a direction at cosine mu from the axis. */
 double ref_phase_pdf(const sl_ref_medium *m, int c, int w, double mu);
 /* A unit vector at angle acos(mu) from d, azimuth uniform. */

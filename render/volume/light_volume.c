@@ -184,7 +184,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
     memset(a, 0, sizeof a);
     a[nwl] = 1.0f;
     double t0 = 0.0, t1 = 0.0;
-    const int hit = sl__ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0;
+    const int hit = sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0;
     if (t0 < 0.0) t0 = 0.0;
     if (hit) {
       int angle_index = 0;

@@ -236,29 +236,6 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r);
 }
 
-/* Parametric interval [t0, t1] where the ray o + t d lies in the box; returns 0 when it misses. */
-int sl__ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0,
-                   double *t1)
-{
-  double a = -INFINITY, b = INFINITY;
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0.0) {
-      if (o[i] < lo[i] || o[i] > hi[i]) return 0;
-      continue;
-    }
-    double ta = (lo[i] - o[i]) / d[i], tb = (hi[i] - o[i]) / d[i];
-    if (ta > tb) {
-      const double s = ta;
-      ta = tb;
-      tb = s;
-    }
-    if (ta > a) a = ta;
-    if (tb < b) b = tb;
-  }
-  *t0 = a;
-  *t1 = b;
-  return b > a;
-}
 
 /* Distance from a point inside the box back toward the sun to the box's boundary. */
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])
@@ -542,7 +519,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       st[nwl] = 0.0f;
       L.h_origin[t] = sl__dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
-      if (sl__ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
+      if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
         L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
         const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
         L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
@@ -573,7 +550,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       }
       double t0, t1;
       /* A ray almost parallel to the slices crosses none of them within the box. */
-      if (fabs(rq[5]) < 1e-9 || !sl__ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
+      if (fabs(rq[5]) < 1e-9 || !sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
       if (t0 < 0.0) t0 = 0.0;
       rq[3] = t0, rq[4] = t1;
       const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];

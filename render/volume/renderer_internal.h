@@ -44,8 +44,6 @@ void sl__cross3(const double a[3], const double b[3], double out[3]);
 int sl__normalize3(double v[3]);
 void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi);
 void sl__sun_at_height(const sun_table *t, double z, double *out);
-/* Parametric interval [t0, t1] where the ray o + t d lies in the box; 0 when it misses. */
-int sl__ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0, double *t1);
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
 void sl__scatter_over_segment(double beta, double len, double rate, double m[2]);
 int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
