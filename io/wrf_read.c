@@ -182,24 +182,22 @@ typedef struct column_grid {
   double *hgt;      /* ny x nx */
 } column_grid;
 
-/* Linear interpolation of one column's values (mass levels) to height z. Below the lowest mass
- * level down to the ground the lowest value holds; above the top mass level up to the model top
- * the top value holds; outside [ground, top] it is zero. */
-static double column_value(const double *values, const double *zm, const double *zs, double ground, int nz,
-                           size_t stride, double z)
+/* Conservative remap of one column: model layer l spans the interfaces [zs_l, zs_{l+1}] with
+ * the constant number concentration values[l]; output cell [z0, z0 + dz] gets the
+ * overlap-weighted mean, so the column's particle path (sum of eta times thickness), and with
+ * it the water path, is the model's exactly wherever the output spans the model column. */
+static double column_mean(const double *values, const double *zs, int nz, size_t stride, double z0, double dz)
 {
-  if (z < ground || z > zs[(size_t)nz * stride]) return 0.0;
-  if (z <= zm[0]) return values[0];
-  if (z >= zm[(size_t)(nz - 1) * stride]) return values[(size_t)(nz - 1) * stride];
-  int lo = 0, hi = nz - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (zm[(size_t)mid * stride] <= z) lo = mid;
-    else hi = mid;
+  const double z1 = z0 + dz;
+  double sum = 0.0;
+  for (int l = 0; l < nz; ++l) {
+    const double a = zs[(size_t)l * stride], b = zs[(size_t)(l + 1) * stride];
+    if (b <= z0) continue;
+    if (a >= z1) break;
+    const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
+    if (overlap > 0.0) sum += values[(size_t)l * stride] * overlap;
   }
-  const double z0 = zm[(size_t)lo * stride], z1 = zm[(size_t)hi * stride];
-  const double w = z1 > z0 ? (z - z0) / (z1 - z0) : 0.0;
-  return values[(size_t)lo * stride] + w * (values[(size_t)hi * stride] - values[(size_t)lo * stride]);
+  return sum / dz;
 }
 
 static int all_finite(const nc_file *f, const char *name, int t, const double *v, size_t n, sl_error *err)
@@ -237,12 +235,12 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
   double *p = malloc(n3 * sizeof(double)), *pb = malloc(n3 * sizeof(double));
   double *theta = malloc(n3 * sizeof(double)), *qv = malloc(n3 * sizeof(double));
   double *ph = malloc(n3s * sizeof(double)), *phb = malloc(n3s * sizeof(double));
-  double *zm = malloc(n3 * sizeof(double)), *hgt = malloc(n2 * sizeof(double));
+  double *hgt = malloc(n2 * sizeof(double));
   double *lat = malloc(n2 * sizeof(double)), *lon = malloc(n2 * sizeof(double));
   double *rho = malloc(n3 * sizeof(double)), *temp = malloc(n3 * sizeof(double));
   double *q = malloc(n3 * sizeof(double));
   double *eta_native[SL_PARTICLE_COUNT] = {0};
-  if (!p || !pb || !theta || !qv || !ph || !phb || !zm || !hgt || !lat || !lon || !rho || !temp || !q) {
+  if (!p || !pb || !theta || !qv || !ph || !phb || !hgt || !lat || !lon || !rho || !temp || !q) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for a %dx%dx%d grid", path, nx, ny, nz);
     goto done;
   }
@@ -265,10 +263,8 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
       goto done;
     if ((rc = all_finite(&f, state[s].name, t, state[s].buf, state[s].n, err))) goto done;
   }
-  /* Geopotential to height on interfaces, then the mass level halfway between them. */
+  /* Geopotential to height on the layer interfaces. */
   for (size_t i = 0; i < n3s; ++i) ph[i] = (ph[i] + phb[i]) / WRF_G;
-  for (int k = 0; k < nz; ++k)
-    for (size_t c = 0; c < n2; ++c) zm[k * n2 + c] = 0.5 * (ph[k * n2 + c] + ph[(k + 1) * n2 + c]);
   for (size_t i = 0; i < n3; ++i) {
     const double pressure = p[i] + pb[i];
     const double qvap = qv[i] > 0.0 ? qv[i] : 0.0;
@@ -368,11 +364,9 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const size_t c = (size_t)j * nx + i;
-        for (int k = 0; k < nzo; ++k) {
-          const double z = origin[2] + k * dz;
+        for (int k = 0; k < nzo; ++k)
           out[sl_volume_index(&frame->volume, i, j, k)] =
-              (float)column_value(eta_native[pt] + c, zm + c, ph + c, hgt[c], nz, n2, z);
-        }
+              (float)column_mean(eta_native[pt] + c, ph + c, nz, n2, ground + k * dz, dz);
       }
   }
   const size_t cc = (size_t)(ny / 2) * nx + nx / 2;
@@ -392,7 +386,6 @@ done:
   free(qv);
   free(ph);
   free(phb);
-  free(zm);
   free(hgt);
   free(lat);
   free(lon);
