@@ -70,23 +70,29 @@ static int read_time_slice(const nc_file *f, const char *name, int t, int ndims,
   if (nc_inq_varid(f->id, name, &varid) != NC_NOERR)
     return sl_fail(err, SL_ERR_FORMAT, "%s: missing variable '%s'", f->path, name);
   nc_check(nc_inq_varndims(f->id, varid, &nd), f, name, err);
-  if (nd != ndims + 1)
+  /* Time-varying variables lead with Time; some writers store static fields (HGT, XLAT, XLONG
+   * in cropped or processed files) without it, which holds for every time. */
+  const int has_time = nd == ndims + 1;
+  if (!has_time && nd != ndims)
     return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' has %d dimensions, expected %d", f->path, name, nd,
                    ndims + 1);
   nc_inq_vardimid(f->id, varid, dimids);
   size_t start[NC_MAX_VAR_DIMS] = {0}, count[NC_MAX_VAR_DIMS];
-  start[0] = (size_t)t;
-  count[0] = 1;
+  const int off = has_time ? 1 : 0;
+  if (has_time) {
+    start[0] = (size_t)t;
+    count[0] = 1;
+  }
   size_t total = 1;
   for (int d = 0; d < ndims; ++d) {
     char dname[NC_MAX_NAME + 1];
     size_t dlen;
-    nc_inq_dim(f->id, dimids[d + 1], dname, &dlen);
+    nc_inq_dim(f->id, dimids[d + off], dname, &dlen);
     if (strcmp(dname, dims[d]) != 0 || (int)dlen != lens[d])
       return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' dimension %d is %s=%zu, expected %s=%d", f->path, name,
-                     d + 1, dname, dlen, dims[d], lens[d]);
-    start[d + 1] = 0;
-    count[d + 1] = dlen;
+                     d + 1 + off, dname, dlen, dims[d], lens[d]);
+    start[d + off] = 0;
+    count[d + off] = dlen;
     total *= dlen;
   }
   int status = nc_get_vara_double(f->id, varid, start, count, out);
