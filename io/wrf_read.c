@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "sl_storm.h"
 
@@ -121,6 +122,50 @@ static int file_open(const char *path, nc_file *f, sl_error *err)
   return sl_fail(err, SL_ERR_IO, "%s: cannot open: %s", path, nc_strerror(status));
 }
 
+/* Without Times: XTIME (minutes since a date in its units, else since START_DATE /
+ * SIMULATION_START_DATE). Leaves has_times 0 when neither is usable (index-only). */
+static void times_from_xtime(const nc_file *f, sl_storm_info *info)
+{
+  int vid;
+  if (nc_inq_varid(f->id, "XTIME", &vid) != NC_NOERR) return;
+  char units[256] = "";
+  size_t len = 0;
+  if (nc_inq_attlen(f->id, vid, "units", &len) == NC_NOERR && len < sizeof units)
+    nc_get_att_text(f->id, vid, "units", units), units[len] = '\0';
+  struct tm tm = {0};
+  const char *since = strstr(units, "since ");
+  int ok = 0;
+  if (since && sscanf(since + 6, "%d-%d-%d%*[ _T]%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
+                      &tm.tm_min, &tm.tm_sec) == 6)
+    ok = 1;
+  if (!ok && strncmp(units, "minutes", 7) == 0) {
+    char start[64] = "";
+    if (nc_inq_attlen(f->id, NC_GLOBAL, "SIMULATION_START_DATE", &len) == NC_NOERR && len < sizeof start)
+      nc_get_att_text(f->id, NC_GLOBAL, "SIMULATION_START_DATE", start), start[len] = '\0';
+    ok = sscanf(start, "%d-%d-%d_%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
+                &tm.tm_sec) == 6;
+  }
+  if (!ok || strncmp(units, "minutes", 7) != 0) return;
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  const time_t base = timegm(&tm);
+  double *minutes = malloc((size_t)info->ntimes * sizeof(double));
+  if (!minutes) return;
+  if (nc_get_var_double(f->id, vid, minutes) == NC_NOERR) {
+    for (int t = 0; t < info->ntimes; ++t) {
+      const time_t at = base + (time_t)llround(minutes[t] * 60.0);
+      struct tm u;
+      gmtime_r(&at, &u);
+      char text[64];
+      snprintf(text, sizeof text, "%04d-%02d-%02d_%02d:%02d:%02d", u.tm_year + 1900, u.tm_mon + 1, u.tm_mday,
+               u.tm_hour, u.tm_min, u.tm_sec);
+      snprintf(info->times[t], sizeof info->times[t], "%.19s", text);
+    }
+    info->has_times = 1;
+  }
+  free(minutes);
+}
+
 int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
 {
   memset(info, 0, sizeof *info);
@@ -172,6 +217,7 @@ int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
       free(buf);
     }
   }
+  if (!info->has_times) times_from_xtime(&f, info);
 done:
   nc_close(f.id);
   return rc;
