@@ -24,6 +24,7 @@ class Options {
   void print_help() const;
 
   bool has(const std::string &name) const;  // given on the command line (or a flag set)
+  bool declared(const std::string &name) const { return find(name) != nullptr; }
   std::string str(const std::string &name) const;
   // Typed getters return false and fill error() when the value does not parse.
   bool number(const std::string &name, double *out);

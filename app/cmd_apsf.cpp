@@ -10,14 +10,11 @@
 #include <vtkContextView.h>
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPlot.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
-#include <vtkWindowToImageFilter.h>
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +24,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "vtk_png.h"
 #include "commands.h"
 #include "sl_apsf.h"
 #include "sl_optics.h"
@@ -199,6 +197,8 @@ int plot(sl::Options &o)
     ys->SetName(label);
     table->AddColumn(ys);
   }
+  std::string display_error;
+  if (!sl::have_display(&display_error)) return sl::fail(kCmd, display_error);
   vtkNew<vtkContextView> view;
   view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
   view->GetRenderWindow()->SetOffScreenRendering(1);
@@ -225,20 +225,9 @@ int plot(sl::Options &o)
     line->SetColor(kColour[k][0], kColour[k][1], kColour[k][2], 255);
     line->SetWidth(1.5);
   }
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  const std::string out = o.str("out"), tmp = out + ".tmp.png";
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || std::rename(tmp.c_str(), out.c_str()) != 0) {
-    unlink(tmp.c_str());
-    return sl::fail(kCmd, "cannot write " + out);
-  }
+  const std::string out = o.str("out");
+  std::string png_error;
+  if (!sl::write_window_png(view->GetRenderWindow(), out, &png_error)) return sl::fail(kCmd, png_error);
   std::printf("wrote %s\n", out.c_str());
   return 0;
 }

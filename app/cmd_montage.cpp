@@ -3,7 +3,6 @@
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
-#include <vtkPNGWriter.h>
 #include <vtkSmartPointer.h>
 
 #include <cstdio>
@@ -12,7 +11,7 @@
 
 #include "cli.h"
 #include "commands.h"
-#include "sl_tempfile.h"
+#include "vtk_png.h"
 
 int sl_cmd_montage(int argc, char **argv)
 {
@@ -71,19 +70,7 @@ int sl_cmd_montage(int argc, char **argv)
     vertical->AddInputData(copy);
   }
   vertical->Update();
-  const std::string out = o.str("out");
-  char tmp[4096];
-  sl_error err{};
-  if (sl_temp_name(out.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
-  const std::string tmp_png = std::string(tmp) + ".png";
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp_png.c_str());
-  writer->SetInputData(vertical->GetOutput());
-  writer->Write();
-  if (writer->GetErrorCode() != 0) {
-    std::remove(tmp_png.c_str());
-    return sl::fail(cmd, out + ": cannot write PNG");
-  }
-  if (sl_temp_commit(tmp_png.c_str(), out.c_str(), &err)) return sl::fail(cmd, err.message);
+  std::string why;
+  if (!sl::write_png(vertical->GetOutput(), o.str("out"), &why)) return sl::fail(cmd, why);
   return 0;
 }

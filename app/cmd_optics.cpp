@@ -10,16 +10,13 @@
 #include <vtkContextView.h>
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
-#include <vtkWindowToImageFilter.h>
 
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -29,6 +26,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "vtk_png.h"
 #include "commands.h"
 #include "sl_mie.h"
 #include "sl_optics.h"
@@ -408,6 +406,8 @@ int cmd_plot(int argc, char **argv)
     for (int i = 0; i < n_points; ++i) ys->SetValue(i, c.y[i]);
     table->AddColumn(ys);
   }
+  std::string display_error;
+  if (!sl::have_display(&display_error)) return sl::fail("optics plot", display_error);
   vtkNew<vtkContextView> view;
   view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
   view->GetRenderWindow()->SetOffScreenRendering(1);
@@ -428,20 +428,9 @@ int cmd_plot(int argc, char **argv)
     line->SetColor(curves[k].rgb[0], curves[k].rgb[1], curves[k].rgb[2], 255);
     line->SetWidth(1.5);
   }
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  const std::string out = o.str("out"), tmp = out + ".tmp.png";
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || std::rename(tmp.c_str(), out.c_str()) != 0) {
-    unlink(tmp.c_str());
-    return sl::fail("optics plot", "cannot write " + out);
-  }
+  const std::string out = o.str("out");
+  std::string png_error;
+  if (!sl::write_window_png(view->GetRenderWindow(), out, &png_error)) return sl::fail("optics plot", png_error);
   std::printf("wrote %s\n", out.c_str());
   return 0;
 }

@@ -308,24 +308,7 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
   std::string why;
   if (!sl::scene_to_arguments(path, &args, &why)) throw SceneError{why};
   sl::Options o("reference", "", "");
-  for (const char *k : {"out", "slices", "light-resolution", "lighting", "xi", "exposure", "threads"}) o.option(k, "X", "");
-  for (const char *k : {"light-volume", "float"}) o.flag(k, "");
-  o.option("time", "N", "", "0");
-  o.option("width", "PX", "", "512");
-  o.option("height", "PX", "", "512");
-  o.option("sun-azimuth", "DEG", "");
-  o.option("sun-elevation", "DEG", "");
-  o.option("date", "ISO8601", "");
-  o.option("earth", "flat|round", "", "round");
-  o.option("wavelengths", "SET", "", "rgb");
-  o.flag("no-atmosphere", "");
-  o.option("camera-position", "X,Y,Z", "");
-  o.option("camera-target", "X,Y,Z", "");
-  o.option("view-azimuth", "DEG", "", "200");
-  o.option("view-elevation", "DEG", "", "12");
-  o.option("fov", "DEG", "", "40");
-  o.option("sky", "R,G,B", "", "0.035,0.055,0.10");
-  o.option("dz", "M", "", "0");
+  sl::declare_render_options(o); /* the same options and defaults as render reads the scene with */
   std::vector<std::string> all = {"reference"};
   all.insert(all.end(), args.begin(), args.end());
   std::vector<char *> cargv;

@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "composite_pass.h"
 #include "scene.h"
+#include "vtk_png.h"
 #include <cjson/cJSON.h>
 #ifndef SL_WITHOUT_APSF
 #include "sl_glow.h"
@@ -128,38 +129,7 @@ static int render_main(int argc, char **argv)
                 "under the analytic sky with aerial perspective, composited with VTK's passes in a\n"
                 "float framebuffer. EXR gets linear HDR RGBA (A = the volume's coverage) plus Z; PNG is\n"
                 "tone-mapped sRGB. Without an X display VTK cannot open a window: run under 'xvfb-run -a'.");
-  o.option("out", "FILES", "output image(s), comma-separated: .exr (linear HDR) and/or .png (tone-mapped)");
-  o.option("time", "N", "time index in the file", "0");
-  o.option("width", "PX", "image width", "512");
-  o.option("height", "PX", "image height", "512");
-  o.option("slices", "N", "slicing planes across the volume (0 = enough to resolve the grid)", "0");
-  o.option("light-resolution", "N", "light-buffer texels along its longer side (0 = automatic)", "0");
-  o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north (with --sun-elevation; default: from the date)");
-  o.option("sun-elevation", "DEG", "sun elevation above the horizon (with --sun-azimuth)");
-  o.option("date", "ISO8601", "UTC date-time that places the sun over the grid's centre (default: the file's time)");
-  o.option("earth", "flat|round", "air mass of the sunlight: the paper's flat earth or a spherical one", "round");
-  o.option("lighting", "MODEL", "multiple (Riley eqs. 16-26 with eq. 24), eq25 (the paper's eq. 25), low-albedo (Fig. 13)",
-           "multiple");
-  o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr: light that higher orders return and the\n"
-           "forward-only light buffer discards (0 for thin media)", "0.05");
-  o.option("wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
-           "rgb");
-  o.option("fog-visibility-km", "V", "glows (Narasimhan et al.) of bright sources seen through fog of small droplets "
-           "(cloud tables) with this visibility; 0 = none", "0");
-  o.option("fog-depth-km", "D", "with fog: how deep the fog bank in front of the camera is (what lies farther is seen "
-           "through all of it)", "2");
-  o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");
-  o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
-  o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
-  o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");
-  o.option("view-azimuth", "DEG", "default camera: compass direction from the cloud to the camera", "200");
-  o.option("view-elevation", "DEG", "default camera: elevation of the camera seen from the cloud", "12");
-  o.option("fov", "DEG", "vertical field of view", "40");
-  o.option("threads", "N", "OpenMP threads (0 = all cores)", "0");
-  o.option("exposure", "E", "PNG tone mapping: 1 - exp(-E L)", "12");
-  o.option("sky", "R,G,B", "with --no-atmosphere: the constant sky radiance", "0.035,0.055,0.10");
-  o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
-  o.flag("float", "write 32-bit float EXR channels instead of half");
+  sl::declare_render_options(o);
   o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
   o.flag("quiet", "no progress bar or summary");
   o.flag("json", "print one JSON object: camera, sun direction, size, seconds");
@@ -351,8 +321,9 @@ static int render_main(int argc, char **argv)
   if (o.has("cpu-composite")) {
     sl_image_over(&volume, &background, &frame_img);
   } else {
-    if (!std::getenv("DISPLAY")) {
-      rc = sl::fail(cmd, "no X display for the VTK render window: run under 'xvfb-run -a' or pass --cpu-composite");
+    std::string display_error;
+    if (!sl::have_display(&display_error)) {
+      rc = sl::fail(cmd, display_error + " or pass --cpu-composite");
       goto done;
     }
     if (!composite_with_vtk(cam, background, volume, &frame_img)) {

@@ -5,7 +5,14 @@
 #include <string>
 #include <vector>
 
+#include "cli.h"
+
 namespace sl {
+
+// Declares the options a scene may set (everything of `stormlight render` except its command-line
+// conveniences): one list for render, for the reference's reading of render scenes, and for the
+// check of scene keys.
+void declare_render_options(Options &o);
 
 // Reads a scene file into render arguments: "data" becomes the positional FILE (relative paths
 // are taken relative to the scene file's folder), every other key "--key value" (booleans

@@ -83,6 +83,8 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   /* Path from one plane to the next along the sunlight, and the in-plane shift it brings. */
   const double path = v->spacing[axis] / fabs(p[axis]);
   const double shift1 = -path * p[a1] / v->spacing[a1], shift2 = -path * p[a2] / v->spacing[a2];
+  double box_lo[3], box_hi[3];
+  sl_volume_bounds(v, box_lo, box_hi);
   const double t0 = omp_get_wtime();
   for (int kk = 0; kk < n[axis]; ++kk) {
     const int k = first + kk * step;
@@ -101,9 +103,7 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
         if (kk == 0 || !plane_lookup(r, state, axis, k - step, ii + shift1, jj + shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
-          double lo[3], hi[3];
-          sl_volume_bounds(v, lo, hi);
-          len = fmin(path, sl__distance_to_box_toward(lo, hi, x, sun));
+          len = fmin(path, sl__distance_to_box_toward(box_lo, box_hi, x, sun));
           if (kk == 0) len = 0.5 * v->spacing[axis] / fabs(p[axis]);
         }
         float I[SL_MAX_WAVELENGTHS], nn = (float)prev[nwl];

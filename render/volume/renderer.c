@@ -147,12 +147,6 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     free(r);
     return NULL;
   }
-  if (sl_total_extinction(scene->volume, r->beta, err)) {
-    sl_renderer_destroy(r);
-    return NULL;
-  }
-  for (size_t i = 0, n = sl_volume_count(scene->volume); i < n && !r->any_extinction; ++i)
-    r->any_extinction = r->beta[i] > 0.0f;
   sl_grid_view_init(&r->beta_view, r->beta, &r->shape);
   sl_volume_bounds(&r->shape, r->lo, r->hi);
   if (sl_light_model_init(&r->model, scene, err)) {
@@ -189,11 +183,19 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   for (size_t i = 0; i < count; ++i) {
     double total = 0.0;
     for (int j = 0; j < nf; ++j) {
-      const double b = scene->volume->eta[r->model.field[j]][i] * r->model.sigma_ext[j];
+      const float eta = scene->volume->eta[r->model.field[j]][i];
+      if (!(eta >= 0.0f) || !isfinite(eta)) {
+        sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
+                sl_particle_name(r->model.field[j]), i);
+        sl_renderer_destroy(r);
+        return NULL;
+      }
+      const double b = eta * r->model.sigma_ext[j];
       r->fields[i * nf + j] = (float)b;
       total += b;
     }
     r->beta[i] = (float)total;
+    if (total > 0.0) r->any_extinction = 1;
   }
   /* Brick occupancy for empty-space skipping inside the content box. */
   {

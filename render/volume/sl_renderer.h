@@ -125,8 +125,9 @@ void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_sli
 int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double view_dir[3],
                              const double light_dir[3], double depth);
 
-/* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample,
- * Riley et al. 2004, eqs. 2-3: beta_ex = sum_i eta_i sigma_ex,i. */
+/* Total extinction coefficient (m^-1) of the hydrometeor fields at every grid sample with Table 2's
+ * cross-sections, Riley et al. 2004, eqs. 2-3: beta_ex = sum_i eta_i sigma_ex,i (the renderer
+ * itself uses the optics tables' cross-sections when it has them). */
 int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err);
 
 #ifdef __cplusplus
