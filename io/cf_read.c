@@ -20,6 +20,7 @@ typedef struct cf_layout {
   int cm1;
   char ref[64];                 /* a hydrometeor variable that fixes the dimensions */
   char dim[4][NC_MAX_NAME + 1]; /* time, z, y, x ("" time when the variable has none) */
+  char coord[4][NC_MAX_NAME + 1]; /* their coordinate variables: CM1's xh/yh/zh, else CF's dim names */
   size_t len[4];
   double x_to_m, y_to_m, z_to_m;
   double dx, dy;
@@ -117,26 +118,32 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
     nc_inq_dim(f->id, dimids[d], L->dim[slot], &L->len[slot]);
   }
   if (nd == 3) L->len[0] = 1;
+  for (int d = 0; d < 4; ++d) snprintf(L->coord[d], sizeof L->coord[d], "%s", L->dim[d]);
+  if (L->cm1) {
+    snprintf(L->coord[1], sizeof L->coord[1], "zh");
+    snprintf(L->coord[2], sizeof L->coord[2], "yh");
+    snprintf(L->coord[3], sizeof L->coord[3], "xh");
+  }
   for (int d = 0; d < 4; ++d)
     if (L->len[d] == 0 || L->len[d] > 100000)
       return sl_fail(err, SL_ERR_DATA, "%s: dimension '%s' has %s length %zu", f->path, L->dim[d],
                      L->len[d] == 0 ? "zero" : "an absurd", L->len[d]);
   int rc;
-  if ((rc = axis_spacing(f, L->dim[3], L->len[3], 1, L->cm1, &L->x_to_m, &L->dx, &L->lat0, err)) ||
-      (rc = axis_spacing(f, L->dim[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, err)))
+  if ((rc = axis_spacing(f, L->coord[3], L->len[3], 1, L->cm1, &L->x_to_m, &L->dx, &L->lat0, err)) ||
+      (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, err)))
     return rc;
   if (L->x_to_m == 0.0) L->dx *= cos(L->lat0 * M_PI / 180.0);
   /* Vertical: a height (m or km, up); pressure or other vertical coordinates are not read. */
   char zunits[64] = "", zstd[128] = "", positive[16] = "";
-  coord_values(f, L->dim[1], L->len[1], NULL, zunits, sizeof zunits, zstd, sizeof zstd);
+  coord_values(f, L->coord[1], L->len[1], NULL, zunits, sizeof zunits, zstd, sizeof zstd);
   if (L->cm1 && !zunits[0]) snprintf(zunits, sizeof zunits, "km");
   int zid;
-  if (nc_inq_varid(f->id, L->dim[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
+  if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
   L->z_to_m = length_scale(zunits);
   if (!(L->z_to_m > 0.0) || strcmp(positive, "down") == 0)
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' (units '%s') is not a height in m or km: only height levels are read",
-                   f->path, L->dim[1], zunits);
+                   f->path, L->coord[1], zunits);
   return SL_OK;
 }
 
@@ -333,9 +340,9 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   double *zh = malloc(n * sizeof(double));
   if (!zh) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
   char u[8], s[8];
-  if (!coord_values(f, L->dim[1], n, zh, u, sizeof u, s, sizeof s)) {
+  if (!coord_values(f, L->coord[1], n, zh, u, sizeof u, s, sizeof s)) {
     free(zh);
-    return sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' for the heights", f->path, L->dim[1]);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' for the heights", f->path, L->coord[1]);
   }
   int zf;
   size_t zn = 0;
@@ -345,14 +352,15 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
     size_t start = 0;
     nc_get_vara_double(f->id, zf, &start, &zn, zi);
   } else {
+    /* A single level stands for the layer from the ground (0) to twice its height. */
     for (size_t k = 1; k < n; ++k) zi[k] = 0.5 * (zh[k - 1] + zh[k]);
-    zi[0] = n > 1 ? zh[0] - (zi[1] - zh[0]) : zh[0] - 0.5;
-    zi[n] = n > 1 ? zh[n - 1] + (zh[n - 1] - zi[n - 1]) : zh[0] + 0.5;
+    zi[0] = n > 1 ? zh[0] - (zi[1] - zh[0]) : 0.0;
+    zi[n] = n > 1 ? zh[n - 1] + (zh[n - 1] - zi[n - 1]) : 2.0 * zh[0];
   }
   for (size_t k = 0; k <= n; ++k) zi[k] *= L->z_to_m;
   free(zh);
   for (size_t k = 0; k < n; ++k)
-    if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->dim[1]);
+    if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->coord[1]);
   return SL_OK;
 }
 
@@ -418,8 +426,8 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
     double x, y;
     size_t ix = s.i0 + (s.nx / 2) * s.stride, iy = s.j0 + (s.ny / 2) * s.stride;
     int xid, yid;
-    if (nc_inq_varid(f->id, L.dim[3], &xid) == NC_NOERR && nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR &&
-        nc_inq_varid(f->id, L.dim[2], &yid) == NC_NOERR && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
+    if (nc_inq_varid(f->id, L.coord[3], &xid) == NC_NOERR && nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR &&
+        nc_inq_varid(f->id, L.coord[2], &yid) == NC_NOERR && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
       frame->center_lat = y, frame->center_lon = x;
   }
   frame->terrain_min = frame->terrain_max = ground;

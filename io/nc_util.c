@@ -6,8 +6,76 @@
 #include <netcdf_mem.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "storm_internal.h"
+
+/* Bytes of one value of a netCDF-3 type. */
+static double nc3_type_size(nc_type t)
+{
+  switch (t) {
+  case NC_BYTE: case NC_CHAR: case NC_UBYTE: return 1;
+  case NC_SHORT: case NC_USHORT: return 2;
+  case NC_INT: case NC_FLOAT: case NC_UINT: return 4;
+  default: return 8;
+  }
+}
+
+static double pad4(double n) { return 4.0 * ceil(n / 4.0); }
+
+/* The smallest size a netCDF-3 file (classic, 64-bit offset, CDF5) with this header can have: its
+ * header encoded as the format specification lays it out, plus every variable's data (records
+ * times the record count). netCDF-C reads past the end of a truncated netCDF-3 file as zeros, so
+ * a file shorter than this has lost data silently. */
+static double nc3_minimum_size(int ncid, int format)
+{
+  const double count = format == NC_FORMAT_CDF5 ? 8 : 4, begin = format == NC_FORMAT_CLASSIC ? 4 : 8;
+  int ndims, nvars, ngatts, unlimited;
+  nc_inq(ncid, &ndims, &nvars, &ngatts, &unlimited);
+  size_t numrecs = 0;
+  if (unlimited >= 0) nc_inq_dimlen(ncid, unlimited, &numrecs);
+  char name[NC_MAX_NAME + 1];
+  double size = 4 + count + 3 * (4 + count); /* magic, numrecs, three list headers */
+  for (int d = 0; d < ndims; ++d) {
+    nc_inq_dimname(ncid, d, name);
+    size += count + pad4((double)strlen(name)) + count;
+  }
+  for (int v = -1; v < nvars; ++v) {
+    int natts = ngatts;
+    if (v >= 0) nc_inq_varnatts(ncid, v, &natts);
+    for (int a = 0; a < natts; ++a) {
+      nc_type t;
+      size_t len;
+      nc_inq_attname(ncid, v, a, name);
+      nc_inq_att(ncid, v, name, &t, &len);
+      size += count + pad4((double)strlen(name)) + 4 + count + pad4((double)len * nc3_type_size(t));
+    }
+  }
+  double records = 0.0;
+  int nrecvars = 0;
+  for (int v = 0; v < nvars; ++v) {
+    int nd, dims[NC_MAX_VAR_DIMS];
+    nc_type t;
+    nc_inq_var(ncid, v, name, &t, &nd, dims, NULL);
+    size += count + pad4((double)strlen(name)) + count + nd * count + 4 + count + 4 + count + begin;
+    double n = nc3_type_size(t);
+    int record = 0;
+    for (int d = 0; d < nd; ++d) {
+      size_t len;
+      if (dims[d] == unlimited) {
+        record = 1;
+        continue;
+      }
+      nc_inq_dimlen(ncid, dims[d], &len);
+      n *= (double)len;
+    }
+    if (record) records += n, nrecvars++;
+    else size += pad4(n);
+  }
+  /* Record slabs are padded to 4 bytes unless there is exactly one record variable. */
+  if (nrecvars > 1) records = pad4(records);
+  return size + records * (double)numrecs;
+}
 
 int sl_nc_open(const char *path, const void *data, size_t size, sl_nc *f, sl_error *err)
 {
@@ -15,7 +83,22 @@ int sl_nc_open(const char *path, const void *data, size_t size, sl_nc *f, sl_err
   f->id = -1;
   const int status = data ? nc_open_mem(path, NC_NOWRITE, size, (void *)data, &f->id)
                           : nc_open(path, NC_NOWRITE, &f->id);
-  if (status == NC_NOERR) return SL_OK;
+  if (status == NC_NOERR) {
+    int format = 0;
+    nc_inq_format(f->id, &format);
+    struct stat st;
+    double actual = data ? (double)size : stat(path, &st) == 0 ? (double)st.st_size : INFINITY;
+    if (format == NC_FORMAT_CLASSIC || format == NC_FORMAT_64BIT_OFFSET || format == NC_FORMAT_CDF5) {
+      const double need = nc3_minimum_size(f->id, format);
+      if (actual < need) {
+        nc_close(f->id);
+        f->id = -1;
+        return sl_fail(err, SL_ERR_FORMAT, "%s: truncated: %.0f bytes where its header and data need at least %.0f",
+                       path, actual, need);
+      }
+    }
+    return SL_OK;
+  }
   f->id = -1;
   if (status == NC_ENOTNC || status == NC_EHDFERR || status == NC_ENOTBUILT)
     return sl_fail(err, SL_ERR_FORMAT, "%s: not a NetCDF file (or truncated)", path);
