@@ -108,6 +108,15 @@ static int write_packed(const char *in, const char *out, double step[2])
   return nc_close(b);
 }
 
+static int load_time(const char *path, int t, sl_storm_frame *f)
+{
+  sl_load_options o = {.time_index = t};
+  sl_error err = {0};
+  const int rc = sl_storm_load(path, &o, f, &err);
+  if (!CHECK(rc == SL_OK)) fprintf(stderr, "%s\n", err.message);
+  return rc;
+}
+
 int main(void)
 {
   const char *shared = getenv("SL_SHARED_DIR");
@@ -116,13 +125,8 @@ int main(void)
   if (!mkdtemp(dir)) return 1;
   static sl_storm_frame original[NTIMES];
   sl_error err = {0};
-  for (int t = 0; t < NTIMES; ++t) {
-    sl_load_options o = {.time_index = t};
-    if (!CHECK(sl_storm_load(katrina, &o, &original[t], &err) == SL_OK)) {
-      fprintf(stderr, "%s\n", err.message);
-      return sl_test_finish("test_reader_formats");
-    }
-  }
+  for (int t = 0; t < NTIMES; ++t)
+    if (load_time(katrina, t, &original[t])) return sl_test_finish("test_reader_formats");
   const struct {
     const char *kind, *name;
     int format;
@@ -140,11 +144,7 @@ int main(void)
     double worst = 0.0;
     for (int t = 0; t < NTIMES; ++t) {
       sl_storm_frame f;
-      sl_load_options o = {.time_index = t};
-      if (!CHECK(sl_storm_load(copy, &o, &f, &err) == SL_OK)) {
-        fprintf(stderr, "%s\n", err.message);
-        break;
-      }
+      if (load_time(copy, t, &f)) break;
       for (int p = 0; p < SL_PARTICLE_COUNT; ++p) worst = fmax(worst, frame_diff(&f, &original[t], (sl_particle)p));
       sl_storm_frame_free(&f);
     }
@@ -174,11 +174,7 @@ int main(void)
     double worst_ratio = 0.0;
     for (int t = 0; t < NTIMES; ++t) {
       sl_storm_frame f;
-      sl_load_options o = {.time_index = t};
-      if (!CHECK(sl_storm_load(copy, &o, &f, &err) == SL_OK)) {
-        fprintf(stderr, "%s\n", err.message);
-        break;
-      }
+      if (load_time(copy, t, &f)) break;
       for (int i = 0; i < 2; ++i) {
         const sl_particle pc = from_cloud[i], pr = from_rain[i];
         const double bc = 1.25 * step[0] / 2 / sl_particle_mass(pc), br = 1.25 * step[1] / 2 / sl_particle_mass(pr);
