@@ -246,7 +246,6 @@ typedef struct cf_levels {
   sl_nc_var rho, p, temp, theta, qv;
   int have_rho, have_temp, have_theta, have_qv, qv_specific;
   sl_var_cache cache;
-  double *tmp;
 } cf_levels;
 
 static int cf_var(cf_levels *c, const char *name, sl_nc_var *v, sl_error *err)
@@ -256,61 +255,65 @@ static int cf_var(cf_levels *c, const char *name, sl_nc_var *v, sl_error *err)
   return sl_nc_var_open(c->f, name, 3, dims, lens, v, err);
 }
 
-static int cf_slab(cf_levels *c, const sl_nc_var *v, int k, double *out, sl_error *err)
+static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
 {
-  int rc = sl_nc_read_slab(c->f, v, c->t, c->s->k0 + k, c->s, out, err);
-  if (!rc) rc = sl_all_finite(c->f, v->name, c->t, out, c->n2, err);
-  return rc;
+  return sl_nc_read_block(c->f, v, c->t, c->s->k0, c->s->nz, c->s, out, err);
 }
 
-static int cf_interfaces(void *ctx, int k, double *z, sl_error *err)
+static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
 {
   (void)err;
   cf_levels *c = ctx;
-  for (size_t i = 0; i < c->n2; ++i) z[i] = c->z_iface[c->s->k0 + k];
+  for (int k = 0; k < nk; ++k)
+    for (size_t i = 0; i < c->n2; ++i) z[(size_t)k * c->n2 + i] = c->z_iface[c->s->k0 + k0 + k];
   return SL_OK;
 }
 
-static int cf_air(void *ctx, int k, double *rho_dry, double *rho_moist, double *temperature, sl_error *err)
+static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
 {
   cf_levels *c = ctx;
-  int rc;
-  double *qv = c->tmp;
-  for (size_t i = 0; i < c->n2; ++i) qv[i] = 0.0;
-  if (c->have_qv && (rc = cf_slab(c, &c->qv, k, qv, err))) return rc;
-  if (c->have_rho) {
-    if ((rc = cf_slab(c, &c->rho, k, rho_moist, err))) return rc;
-    for (size_t i = 0; i < c->n2; ++i) {
-      const double q = fmax(qv[i], 0.0);
-      rho_dry[i] = c->qv_specific ? rho_moist[i] * (1.0 - q) : rho_moist[i] / (1.0 + q);
-      temperature[i] = NAN;
-    }
-    if (c->have_temp && (rc = cf_slab(c, &c->temp, k, temperature, err))) return rc;
-    return SL_OK;
-  }
-  double *p = rho_dry;
-  if ((rc = cf_slab(c, &c->p, k, p, err)) ||
-      (rc = cf_slab(c, c->have_temp ? &c->temp : &c->theta, k, temperature, err)))
-    return rc;
-  for (size_t i = 0; i < c->n2; ++i) {
-    if (!(p[i] > 0.0)) return sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
-    if (!c->have_temp) temperature[i] = sl_temperature_from_theta(temperature[i], p[i]);
+  const size_t n = (size_t)c->s->nz * c->n2;
+  float *qv = calloc(n, sizeof(float)), *a = malloc(n * sizeof(float)), *temp = malloc(n * sizeof(float));
+  int rc = qv && a && temp ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
+  if (!rc && c->have_qv) rc = cf_block(c, &c->qv, qv, err);
+  /* Temperature where the file has it (or potential temperature and pressure); without any, no
+   * cell is below freezing (only split species need it, and those are refused without one). */
+  if (!rc && (c->have_temp || c->have_theta)) rc = cf_block(c, c->have_temp ? &c->temp : &c->theta, temp, err);
+  if (!rc && !c->have_rho) rc = cf_block(c, &c->p, a, err);
+  if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
     /* Specific humidity q_s is per kg of moist air: mixing ratio q_s / (1 - q_s). */
     const double q = fmax(qv[i], 0.0), r = c->qv_specific ? q / (1.0 - q) : q;
-    rho_dry[i] = sl_dry_air_density(p[i], temperature[i], r);
-    rho_moist[i] = rho_dry[i] * (1.0 + r);
+    double t = c->have_temp || c->have_theta ? temp[i] : INFINITY, rho;
+    if (c->have_rho) {
+      rho = a[i] / (1.0 + r);
+    } else {
+      const double p = a[i];
+      if (!(p > 0.0)) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
+        break;
+      }
+      if (!c->have_temp) t = sl_temperature_from_theta(t, p);
+      rho = sl_dry_air_density(p, t, r);
+    }
+    frozen[i] = t < SL_FREEZING_K;
+    rho_dry[i] = (float)rho;
+    if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + r));
   }
-  return SL_OK;
+  free(qv);
+  free(a);
+  free(temp);
+  return rc;
 }
 
-static int cf_field(void *ctx, const char *name, int k, double *out, sl_error *err)
+static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
 {
   cf_levels *c = ctx;
   const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
   const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
   const sl_nc_var *v;
   const int rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &v, err);
-  return rc ? rc : cf_slab(c, v, k, out, err);
+  return rc ? rc : cf_block(c, v, out, err);
 }
 
 /* A variable by CM1 name or by CF standard_name. */
@@ -383,8 +386,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
     return sl_fail(err, SL_ERR_ARG, "%s: --levels outside the file's %d levels", f->path, info->nz);
   cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny};
   c.z_iface = malloc((L.len[1] + 1) * sizeof(double));
-  c.tmp = malloc(c.n2 * sizeof(double));
-  if (!c.z_iface || !c.tmp) {
+  if (!c.z_iface) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
     goto done;
   }
@@ -435,6 +437,5 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   frame->time_index = c.t;
 done:
   free(c.z_iface);
-  free(c.tmp);
   return rc;
 }

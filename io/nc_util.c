@@ -168,27 +168,53 @@ int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *cons
   return SL_OK;
 }
 
-int sl_nc_read_slab(const sl_nc *f, const sl_nc_var *v, int t, int k, const sl_subset *s, double *out,
-                    sl_error *err)
+/* Hyperslab of time t, levels k0 .. k0 + nk - 1 (3-D variables; ignored for 2-D ones) and the
+ * subset's columns, as doubles or floats, unpacked; fill/missing values become NaN. */
+static int read_hyperslab(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s,
+                          double *out_d, float *out_f, sl_error *err)
 {
   size_t start[NC_MAX_VAR_DIMS] = {0}, count[NC_MAX_VAR_DIMS];
   ptrdiff_t stride[NC_MAX_VAR_DIMS];
   int d = 0;
+  size_t levels = 1;
   if (v->has_time) start[d] = (size_t)t, count[d] = 1, stride[d] = 1, ++d;
-  if (v->ndims - v->has_time == 3) start[d] = (size_t)k, count[d] = 1, stride[d] = 1, ++d;
+  if (v->ndims - v->has_time == 3) start[d] = (size_t)k0, count[d] = levels = (size_t)nk, stride[d] = 1, ++d;
   start[d] = (size_t)s->j0, count[d] = (size_t)s->ny, stride[d] = s->stride, ++d;
   start[d] = (size_t)s->i0, count[d] = (size_t)s->nx, stride[d] = s->stride, ++d;
-  const int status = nc_get_vars_double(f->id, v->varid, start, count, stride, out);
+  const int status = out_d ? nc_get_vars_double(f->id, v->varid, start, count, stride, out_d)
+                           : nc_get_vars_float(f->id, v->varid, start, count, stride, out_f);
   if (status != NC_NOERR)
     return sl_fail(err, SL_ERR_FORMAT, "%s: cannot read '%s' at time %d: %s", f->path, v->name, t,
                    nc_strerror(status));
-  const size_t n = (size_t)s->nx * s->ny;
+  const size_t n = levels * (size_t)s->nx * s->ny;
+  /* Fill values compare in the precision the values were read in. */
+  const double fill = out_d ? v->fill : (double)(float)v->fill, missing = out_d ? v->missing : (double)(float)v->missing;
   for (size_t i = 0; i < n; ++i) {
-    double x = out[i];
-    if (x == v->fill || x == v->missing) x = NAN;
-    out[i] = x * v->scale + v->offset;
+    double x = out_d ? out_d[i] : (double)out_f[i];
+    if (x == fill || x == missing) x = NAN;
+    x = x * v->scale + v->offset;
+    if (out_d) out_d[i] = x;
+    else out_f[i] = (float)x;
   }
   return SL_OK;
+}
+
+int sl_nc_read_slab(const sl_nc *f, const sl_nc_var *v, int t, int k, const sl_subset *s, double *out,
+                    sl_error *err)
+{
+  return read_hyperslab(f, v, t, k, 1, s, out, NULL, err);
+}
+
+int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
+                     sl_error *err)
+{
+  int rc = read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
+  const size_t n = (size_t)(v->ndims - v->has_time == 3 ? nk : 1) * s->nx * s->ny;
+  for (size_t i = 0; !rc && i < n; ++i)
+    if (!isfinite(out[i]))
+      rc = sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path, v->name,
+                   t);
+  return rc;
 }
 
 int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, const char *const dims[3],

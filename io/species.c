@@ -185,10 +185,13 @@ double sl_species_eta(const sl_species *sp, int target, double rho_air, double q
   return mass_conc * extinction_per_mass(sp->radius_m, sp->density_kg_m3) / tp->sigma_ext_m2;
 }
 
-double sl_load_bytes(size_t nx, size_t ny, size_t nz_out, int types)
+double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types)
 {
-  /* Output fields (float) + per-level buffers (a dozen double slabs of the subset's columns). */
-  return (double)nx * ny * nz_out * sizeof(float) * types + 16.0 * nx * ny * sizeof(double);
+  /* Output fields (float), and beside them for the whole load (remap.c): interface heights
+   * (double), dry density (float), a freezing flag (byte) and one hydrometeor variable (float). */
+  const double columns = (double)nx * ny;
+  return columns * nz_out * sizeof(float) * types + columns * (nz_model + 1) * sizeof(double) +
+         columns * nz_model * (2 * sizeof(float) + 1);
 }
 
 double sl_machine_memory(void)

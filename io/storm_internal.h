@@ -48,21 +48,28 @@ typedef struct sl_var_cache {
 /* The opened variable `name` of 3-D shape (dims, lens), opening it on first use. */
 int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, const char *const dims[3],
                      const size_t lens[3], const sl_nc_var **out, sl_error *err);
+/* Levels k0 .. k0 + nk - 1 of a variable at time t over the subset's columns, as floats
+ * ([level][y][x]), unpacked, failing on NaN/Inf/fill naming the variable. One call per variable:
+ * compressed chunks are inflated once, whatever their shape. */
+int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
+                     sl_error *err);
 /* Fails on NaN/Inf naming the variable. */
 int sl_all_finite(const sl_nc *f, const char *name, int t, const double *v, size_t n, sl_error *err);
 
-/* What a format reader supplies to the streaming remap, level by level from the bottom. */
+/* What a format reader supplies to the remap, one whole variable (the subset's levels and
+ * columns) per call. Levels are counted from the subset's first. */
 typedef struct sl_level_reader {
   void *ctx;
-  /* Heights (m above sea level) of interface k (0 .. nz of the subset) per column. */
-  int (*interfaces)(void *ctx, int k, double *z, sl_error *err);
-  /* Dry-air density (kg/m3), moist-air density and temperature (K) of model level k per column. */
-  int (*air)(void *ctx, int k, double *rho_dry, double *rho_moist, double *temperature, sl_error *err);
-  /* Raw values of a variable at level k (unpacked, checked finite). */
-  int (*field)(void *ctx, const char *name, int k, double *out, sl_error *err);
+  /* Heights (m above sea level) of interfaces k0 .. k0 + nk - 1 ([k][y][x], 0 .. nz of the subset). */
+  int (*interfaces)(void *ctx, int k0, int nk, double *z, sl_error *err);
+  /* Dry-air density (kg/m3), moist-air density (NULL when not wanted) and whether each cell is
+   * below 0 C, for the subset's levels. */
+  int (*air)(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err);
+  /* Values of a hydrometeor variable over the subset's levels (unpacked, checked finite). */
+  int (*field)(void *ctx, const char *name, float *out, sl_error *err);
 } sl_level_reader;
 
-/* Fills frame->volume from the mapped species, one model level at a time, with the conservative
+/* Fills frame->volume from the mapped species, one variable at a time, with the conservative
  * vertical remap; ground/top are the output grid's bottom and top (m); dx, dy the output spacing. */
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
                     int nspecies, double ground, double top, double dz, double dx, double dy, sl_storm_frame *frame,
@@ -80,8 +87,8 @@ int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1
  * species' mass concentration rho_air * q and, for double-moment schemes, its number
  * concentration rho_dry * qn (qn < 0: none). */
 double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn);
-/* Estimated bytes of a load of nx x ny columns with nz model levels into `types` fields. */
-double sl_load_bytes(size_t nx, size_t ny, size_t nz_out, int types);
+/* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
+double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
 
 int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err);
 int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,

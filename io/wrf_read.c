@@ -188,7 +188,6 @@ typedef struct wrf_levels {
   sl_nc_var ph, phb, p, pb, theta, qv;
   sl_var_cache cache;
   size_t l3[3];
-  double *tmp;
 } wrf_levels;
 
 static int wrf_slab(wrf_levels *w, const sl_nc_var *v, int k, double *out, sl_error *err)
@@ -198,45 +197,66 @@ static int wrf_slab(wrf_levels *w, const sl_nc_var *v, int k, double *out, sl_er
   return rc;
 }
 
-static int wrf_interfaces(void *ctx, int k, double *z, sl_error *err)
+/* Two float work arrays of n floats, freed by the caller. */
+static int two_buffers(const char *path, size_t n, float **a, float **b, sl_error *err)
+{
+  *a = malloc(n * sizeof(float));
+  *b = malloc(n * sizeof(float));
+  return *a && *b ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+}
+
+static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
 {
   wrf_levels *w = ctx;
-  int rc;
-  if ((rc = wrf_slab(w, &w->ph, w->s->k0 + k, z, err)) || (rc = wrf_slab(w, &w->phb, w->s->k0 + k, w->tmp, err)))
-    return rc;
+  const size_t n = (size_t)nk * w->n2;
+  float *ph, *phb;
+  int rc = two_buffers(w->f->path, n, &ph, &phb, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->ph, w->t, w->s->k0 + k0, nk, w->s, ph, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->phb, w->t, w->s->k0 + k0, nk, w->s, phb, err);
   /* Geopotential to height. */
-  for (size_t c = 0; c < w->n2; ++c) z[c] = (z[c] + w->tmp[c]) / WRF_G;
-  return SL_OK;
+  for (size_t i = 0; !rc && i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
+  free(ph);
+  free(phb);
+  return rc;
 }
 
-static int wrf_air(void *ctx, int k, double *rho_dry, double *rho_moist, double *temperature, sl_error *err)
+static int wrf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
 {
   wrf_levels *w = ctx;
-  const int kk = w->s->k0 + k;
-  double *p = rho_dry, *pb = rho_moist, *qv = w->tmp;
-  int rc;
-  if ((rc = wrf_slab(w, &w->p, kk, p, err)) || (rc = wrf_slab(w, &w->pb, kk, pb, err)) ||
-      (rc = wrf_slab(w, &w->theta, kk, temperature, err)) || (rc = wrf_slab(w, &w->qv, kk, qv, err)))
-    return rc;
-  for (size_t c = 0; c < w->n2; ++c) {
-    const double pressure = p[c] + pb[c], qvap = qv[c] > 0.0 ? qv[c] : 0.0;
-    if (!(pressure > 0.0))
-      return sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", w->f->path, w->t);
-    temperature[c] = sl_temperature_from_wrf(temperature[c], pressure);
-    rho_dry[c] = sl_dry_air_density(pressure, temperature[c], qvap);
-    rho_moist[c] = rho_dry[c] * (1.0 + qvap);
+  const int k0 = w->s->k0, nk = w->s->nz;
+  const size_t n = (size_t)nk * w->n2;
+  float *pb, *theta, *qv = rho_dry; /* rho_dry holds P + PB first */
+  float *p = rho_dry;
+  int rc = two_buffers(w->f->path, n, &pb, &theta, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->p, w->t, k0, nk, w->s, p, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->pb, w->t, k0, nk, w->s, pb, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
+    pb[i] += p[i];
+    if (!(pb[i] > 0.0f)) rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", w->f->path, w->t);
   }
-  return SL_OK;
+  if (!rc) rc = sl_nc_read_block(w->f, &w->theta, w->t, k0, nk, w->s, theta, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->qv, w->t, k0, nk, w->s, qv, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
+    const double pressure = pb[i], qvap = qv[i] > 0.0f ? qv[i] : 0.0;
+    const double temperature = sl_temperature_from_wrf(theta[i], pressure);
+    frozen[i] = temperature < SL_FREEZING_K;
+    const double rho = sl_dry_air_density(pressure, temperature, qvap);
+    rho_dry[i] = (float)rho;
+    if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + qvap));
+  }
+  free(pb);
+  free(theta);
+  return rc;
 }
 
-static int wrf_field(void *ctx, const char *name, int k, double *out, sl_error *err)
+static int wrf_field(void *ctx, const char *name, float *out, sl_error *err)
 {
   wrf_levels *w = ctx;
   const char *const d3[] = {"bottom_top", "south_north", "west_east"};
   const size_t l3[] = {w->l3[0], w->l3[1], w->l3[2]};
   const sl_nc_var *v;
   const int rc = sl_var_cache_get(&w->cache, w->f, name, d3, l3, &v, err);
-  return rc ? rc : wrf_slab(w, v, w->s->k0 + k, out, err);
+  return rc ? rc : sl_nc_read_block(w->f, v, w->t, w->s->k0, w->s->nz, w->s, out, err);
 }
 
 /* Columns inside lat0..lat1, lon0..lon1 at time t: their bounding box in grid indices. */
@@ -327,8 +347,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
       (rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &xlat, err)) || (rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &xlong, err)))
     return rc;
   double *a = malloc(n2 * sizeof(double)), *b = malloc(n2 * sizeof(double));
-  w.tmp = malloc(n2 * sizeof(double));
-  if (!a || !b || !w.tmp) {
+  if (!a || !b) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %zu columns", path, n2);
     goto done;
   }
@@ -337,11 +356,11 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   if ((rc = wrf_slab(&w, &hgt, -1, a, err))) goto done;
   for (size_t c = 0; c < n2; ++c) ground = fmin(ground, a[c]), hmax = fmax(hmax, a[c]);
   if (s.k0 > 0) {
-    if ((rc = wrf_interfaces(&w, 0, a, err))) goto done;
+    if ((rc = wrf_interfaces(&w, 0, 1, a, err))) goto done;
     ground = INFINITY;
     for (size_t c = 0; c < n2; ++c) ground = fmin(ground, a[c]);
   }
-  if ((rc = wrf_interfaces(&w, s.nz, b, err))) goto done;
+  if ((rc = wrf_interfaces(&w, s.nz, 1, b, err))) goto done;
   for (size_t c = 0; c < n2; ++c) top = fmax(top, b[c]);
   if (!(top > ground)) {
     rc = sl_fail(err, SL_ERR_DATA, "%s: the model top lies below the ground at time %d", path, t);
@@ -349,7 +368,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   }
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
   const double nzo = ceil((top - ground) / dz);
-  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, nzo > 1 ? (size_t)nzo : 1,
+  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)nzo : 1,
                                          sl_species_type_count(species, nspecies));
   if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
   sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field};
@@ -371,7 +390,6 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
 done:
   free(a);
   free(b);
-  free(w.tmp);
   return rc;
 }
 
@@ -387,7 +405,7 @@ double sl_storm_memory_estimate(const sl_storm_info *info, const sl_load_options
     if (opt->field_variable[p] && strcmp(opt->field_variable[p], "none") != 0 && n < SL_MAX_SPECIES)
       species[n].warm = species[n].cold = p, ++n;
   /* Default dz: two output levels per model level. */
-  return sl_load_bytes(nx, ny, 2 * (size_t)(nz > 0 ? nz : 1), sl_species_type_count(species, n));
+  return sl_load_bytes(nx, ny, (size_t)(nz > 0 ? nz : 1), 2 * (size_t)(nz > 0 ? nz : 1), sl_species_type_count(species, n));
 }
 
 static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
