@@ -1,5 +1,5 @@
-/* WRF wrfout reader: dimensions, projection attributes, times, and one time streamed level by
- * level from terrain-following eta levels onto a uniform east-north-up grid (remap.c). Also the
+/* WRF wrfout reader: dimensions, projection attributes, times, and one time read variable by
+ * variable from terrain-following eta levels onto a uniform east-north-up grid (remap.c). Also the
  * load entry points, which dispatch by content to this reader or cf_read.c. */
 #include <math.h>
 #include <netcdf.h>
@@ -178,8 +178,8 @@ int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
   return rc;
 }
 
-/* The WRF level reader: PH/PHB interfaces, P/PB/T/QVAPOR air state and the hydrometeor
- * variables, one horizontal slab of the subset at a time. */
+/* The WRF reader behind the remap: PH/PHB interfaces, P/PB/T/QVAPOR air state and the
+ * hydrometeor variables, each read once over the subset's levels and columns. */
 typedef struct wrf_levels {
   const sl_nc *f;
   int t;
