@@ -128,6 +128,14 @@ else
   echo "FAILED: negative mixing ratio clamped and counted"
   "$sl" info "$work/good.nc" --json
 fi
+# --field moves a variable to another particle type (info and render take the same options).
+if "$sl" info "$work/good.nc" --json --field snow=QRAIN | grep -q '"variable":"QRAIN","kind":"override","type":"snow"'; then
+  passes=$((passes + 1))
+else
+  failures=$((failures + 1))
+  echo "FAILED: --field snow=QRAIN feeds snow from QRAIN"
+  "$sl" info "$work/good.nc" --json --field snow=QRAIN
+fi
 # netCDF-3 and netCDF-4 of the same data give the same frame.
 if "$sl" render "$work/good.nc" --out "$work/f4.exr" --cpu-composite --quiet --width 32 --height 32 --sun-azimuth 200 --sun-elevation 30 &&
   "$sl" render "$work/good3.nc" --out "$work/f3.exr" --cpu-composite --quiet --width 32 --height 32 --sun-azimuth 200 --sun-elevation 30 &&
