@@ -252,4 +252,77 @@ void Progress::done()
   std::fprintf(stderr, "  %.1f s\n", now_seconds() - start_);
 }
 
+void declare_load_options(Options &o)
+{
+  o.option("field", "TYPE=VAR,...", "feed particle TYPE (cloud, rain, ice, snow) from file variable VAR instead of\n"
+           "the scheme's mapping (VAR 'none': leave TYPE out); see docs/DATA.md");
+  o.option("region", "LAT0,LAT1,LON0,LON1", "read only the grid columns inside these latitudes/longitudes (WRF)");
+  o.option("levels", "K0:K1", "read only model levels K0..K1 (0-based, inclusive)");
+  o.option("stride", "N", "read every N-th column in x and y", "1");
+  o.option("max-memory", "BYTES", "refuse a load whose estimate exceeds this (e.g. 8G; default: the memory available)");
+}
+
+bool parse_bytes(const std::string &text, double *bytes)
+{
+  char *end = nullptr;
+  errno = 0;
+  double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || errno != 0 || end == text.c_str() || !std::isfinite(v) || v <= 0) return false;
+  const std::string unit = end;
+  const char *units[] = {"", "K", "M", "G", "T"};
+  for (int i = 0; i < 5; ++i)
+    if (unit == units[i] || (i > 0 && (unit == std::string(units[i]) + "B" || unit == std::string(units[i]) + "iB"))) {
+      *bytes = v * std::pow(1024.0, i);
+      return true;
+    }
+  return false;
+}
+
+bool parse_load_options(Options &o, LoadOptions *out, std::string *error)
+{
+  sl_load_options &lo = out->load;
+  long stride;
+  if (!o.integer("stride", &stride, 1, 100000)) return *error = o.error(), false;
+  lo.stride = (int)stride;
+  if (o.has("field")) {
+    std::stringstream ss(o.str("field"));
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      const size_t eq = item.find('=');
+      const int type = eq == std::string::npos ? -1 : sl_particle_from_name(item.substr(0, eq).c_str());
+      if (type < 0 || eq + 1 >= item.size()) {
+        *error = "--field: '" + item + "' is not TYPE=VARIABLE with TYPE one of cloud, rain, ice, snow";
+        return false;
+      }
+      out->fields[type] = item.substr(eq + 1);
+      lo.field_variable[type] = out->fields[type].c_str();
+    }
+  }
+  if (o.has("region")) {
+    std::vector<double> r;
+    if (!o.list("region", &r)) return *error = o.error(), false;
+    if (r.size() != 4 || !(r[0] < r[1]) || r[0] < -90 || r[1] > 90 || r[2] < -360 || r[3] > 360) {
+      *error = "--region needs LAT0,LAT1,LON0,LON1 in degrees with LAT0 < LAT1";
+      return false;
+    }
+    lo.has_region = 1;
+    for (int i = 0; i < 4; ++i) lo.region[i] = r[i];
+  }
+  if (o.has("levels")) {
+    int k0, k1;
+    char tail;
+    if (std::sscanf(o.str("levels").c_str(), "%d:%d%c", &k0, &k1, &tail) != 2 || k0 < 0 || k1 < k0) {
+      *error = "--levels needs K0:K1 with 0 <= K0 <= K1";
+      return false;
+    }
+    lo.level_first = k0;
+    lo.level_count = k1 - k0 + 1;
+  }
+  if (o.has("max-memory") && !parse_bytes(o.str("max-memory"), &lo.max_memory)) {
+    *error = "--max-memory: '" + o.str("max-memory") + "' is not a size such as 8G, 512M or 1e9";
+    return false;
+  }
+  return true;
+}
+
 }  // namespace sl

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "sl_storm.h"
+
 namespace sl {
 
 class Options {
@@ -74,5 +76,18 @@ class Progress {
 };
 
 double now_seconds();
+
+// How much of a storm file to read (render, info): --field TYPE=VARIABLE,..., --region, --levels,
+// --stride, --max-memory. The strings behind field_variable live in `LoadOptions` itself.
+struct LoadOptions {
+  sl_load_options load{};
+  std::string fields[SL_PARTICLE_COUNT];
+};
+void declare_load_options(Options &o);
+// Fills *out from the declared options (time and dz are left to the caller); false with the
+// one-line error in *error for a malformed value.
+bool parse_load_options(Options &o, LoadOptions *out, std::string *error);
+// "8G", "512M", "1.5e9": bytes; false when it does not parse.
+bool parse_bytes(const std::string &text, double *bytes);
 
 }  // namespace sl

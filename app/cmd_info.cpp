@@ -23,7 +23,30 @@ const char *projection_name(int map_proj)
   }
 }
 
-const char *const kVariable[SL_PARTICLE_COUNT] = {"QCLOUD", "QRAIN", "QICE", "QSNOW"};
+const char *netcdf_format_name(int format)
+{
+  switch (format) {
+  case 1: return "netCDF-3 classic";
+  case 2: return "netCDF-3 64-bit offset";
+  case 3: return "netCDF-4";
+  case 4: return "netCDF-4 classic model";
+  case 5: return "netCDF-3 CDF5 (64-bit data)";
+  default: return "unknown";
+  }
+}
+
+const char *storm_kind_name(sl_storm_format kind)
+{
+  return kind == SL_STORM_WRF ? "WRF" : kind == SL_STORM_CM1 ? "CM1" : "CF";
+}
+
+// "ice below 0 C, cloud above" for split species, else the type's name.
+std::string species_types(const sl_species &sp)
+{
+  if (sp.warm == sp.cold) return sl_particle_name((sl_particle)sp.warm);
+  return std::string(sl_particle_name((sl_particle)sp.warm)) + " at or above 0 C, " +
+         sl_particle_name((sl_particle)sp.cold) + " below";
+}
 
 }  // namespace
 
@@ -34,6 +57,7 @@ int sl_cmd_info(int argc, char **argv)
                 "negative values clamped, times and map projection.");
   o.option("time", "N", "time index for the field statistics and extent", "0");
   o.flag("json", "print one JSON object");
+  sl::declare_load_options(o);
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
   if (o.positional().size() != 1) return sl::fail("info", "give exactly one storm FILE", 2);
@@ -43,9 +67,12 @@ int sl_cmd_info(int argc, char **argv)
   sl_error err{};
   std::unique_ptr<sl_storm_info> info(new sl_storm_info);
   if (sl_storm_read_info(path.c_str(), info.get(), &err)) return sl::fail("info", err.message);
-  sl_load_options lo{(int)t, 0.0};
+  sl::LoadOptions load;
+  std::string load_error;
+  if (!sl::parse_load_options(o, &load, &load_error)) return sl::fail("info", load_error, 2);
+  load.load.time_index = (int)t;
   sl_storm_frame frame;
-  if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail("info", err.message);
+  if (sl_storm_load(path.c_str(), &load.load, &frame, &err)) return sl::fail("info", err.message);
   const sl_volume &v = frame.volume;
   const double extent[3] = {v.nx * v.spacing[0], v.ny * v.spacing[1], frame.model_top - frame.terrain_min};
 
@@ -79,15 +106,32 @@ int sl_cmd_info(int argc, char **argv)
     cJSON_AddNumberToObject(proj, "truelat2", info->truelat2);
     cJSON_AddNumberToObject(proj, "stand_lon", info->stand_lon);
     cJSON_AddNumberToObject(root, "mp_physics", info->mp_physics);
+    cJSON_AddStringToObject(root, "format", storm_kind_name(info->kind));
+    cJSON_AddStringToObject(root, "netcdf_format", netcdf_format_name(info->format));
+    cJSON_AddStringToObject(root, "scheme", info->scheme);
+    cJSON *species = cJSON_AddArrayToObject(root, "species");
+    for (int i = 0; i < frame.nspecies; ++i) {
+      const sl_species &sp = frame.species[i];
+      cJSON *e = cJSON_CreateObject();
+      cJSON_AddStringToObject(e, "variable", sp.variable);
+      cJSON_AddStringToObject(e, "kind", sp.kind);
+      cJSON_AddStringToObject(e, "type", sl_particle_name((sl_particle)sp.warm));
+      if (sp.cold != sp.warm) cJSON_AddStringToObject(e, "type_below_0C", sl_particle_name((sl_particle)sp.cold));
+      if (sp.number_variable[0]) cJSON_AddStringToObject(e, "number_variable", sp.number_variable);
+      cJSON_AddNumberToObject(e, "negative_clamped", (double)frame.species_stats[i].negative_count);
+      cJSON_AddItemToArray(species, e);
+    }
+    cJSON *mem = cJSON_AddObjectToObject(root, "memory");
+    cJSON_AddNumberToObject(mem, "estimate_bytes", frame.memory_estimate);
+    cJSON_AddNumberToObject(mem, "available_bytes", sl_machine_memory());
     cJSON *times = cJSON_AddArrayToObject(root, "times");
     for (int i = 0; i < info->ntimes; ++i)
       cJSON_AddItemToArray(times, info->has_times ? cJSON_CreateString(info->times[i]) : cJSON_CreateNumber(i));
     cJSON_AddNumberToObject(root, "time_index", (double)t);
     cJSON *fields = cJSON_AddObjectToObject(root, "fields");
-    for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-      const sl_field_stats &s = frame.stats[p];
-      if (!s.present) continue;
-      cJSON *f = cJSON_AddObjectToObject(fields, kVariable[p]);
+    for (int p = 0; p < frame.nspecies; ++p) {
+      const sl_field_stats &s = frame.species_stats[p];
+      cJSON *f = cJSON_AddObjectToObject(fields, frame.species[p].variable);
       cJSON_AddNumberToObject(f, "min_kg_per_kg", s.q_min);
       cJSON_AddNumberToObject(f, "max_kg_per_kg", s.q_max);
       cJSON_AddNumberToObject(f, "mean_kg_per_kg", s.q_mean);
@@ -108,17 +152,20 @@ int sl_cmd_info(int argc, char **argv)
     std::printf("projection  %s (MAP_PROJ %d), truelat %g/%g, stand_lon %g; centre %.4f N %.4f E\n",
                 projection_name(info->map_proj), info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
                 frame.center_lat, frame.center_lon);
-    std::printf("physics     MP_PHYSICS %d%s\n", info->mp_physics,
-                info->mp_physics == 3 ? " (WSM3 simple ice: QCLOUD/QRAIN are ice/snow below 0 C)" : "");
+    std::printf("format      %s, %s\n", storm_kind_name(info->kind), netcdf_format_name(info->format));
+    std::printf("physics     %s (MP_PHYSICS %d)\n", info->scheme, info->mp_physics);
+    std::printf("memory      a load needs about %.1f MB (available %.1f GB)\n", frame.memory_estimate / 1e6,
+                sl_machine_memory() / 1e9);
     std::printf("times       %d:", info->ntimes);
     for (int i = 0; i < info->ntimes && i < 8; ++i) std::printf(" %s", info->has_times ? info->times[i] : "(index only)");
     std::printf("%s\n", info->ntimes > 8 ? " ..." : "");
     std::printf("fields at time %ld (kg/kg):\n", t);
-    for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-      const sl_field_stats &s = frame.stats[p];
-      if (!s.present) continue;
-      std::printf("  %-7s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld\n", kVariable[p], s.q_min,
-                  s.q_max, s.q_mean, s.negative_count);
+    for (int p = 0; p < frame.nspecies; ++p) {
+      const sl_field_stats &s = frame.species_stats[p];
+      const sl_species &sp = frame.species[p];
+      std::printf("  %-9s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld  %s -> %s%s%s\n", sp.variable,
+                  s.q_min, s.q_max, s.q_mean, s.negative_count, sp.kind, species_types(sp).c_str(),
+                  sp.number_variable[0] ? ", number from " : "", sp.number_variable);
     }
   }
   sl_storm_frame_free(&frame);

@@ -199,9 +199,12 @@ static int render_main(int argc, char **argv)
   const bool quiet = o.has("quiet") || json;
 
   double t0 = sl::now_seconds();
-  sl_load_options lo{(int)time_index, dz};
+  sl::LoadOptions load;
+  std::string load_error;
+  if (!sl::parse_load_options(o, &load, &load_error)) return sl::fail(cmd, load_error, 2);
+  load.load.time_index = (int)time_index, load.load.dz = dz;
   sl_storm_frame frame;
-  if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail(cmd, err.message);
+  if (sl_storm_load(path.c_str(), &load.load, &frame, &err)) return sl::fail(cmd, err.message);
   const double t_load = sl::now_seconds() - t0;
 
   // The sun: given angles, or the solar position for --date or the file's own time.

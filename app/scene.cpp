@@ -54,12 +54,11 @@ void declare_render_options(Options &o)
   o.option("sky", "R,G,B", "with --no-atmosphere: the constant sky radiance", "0.035,0.055,0.10");
   o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
   o.flag("float", "write 32-bit float EXR channels instead of half");
+  declare_load_options(o);
 }
 
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error)
 {
-  Options declared("render", "", "");
-  declare_render_options(declared);
   std::ifstream in(path);
   if (!in) {
     *error = path + ": cannot open the scene file";
@@ -67,7 +66,15 @@ bool scene_to_arguments(const std::string &path, std::vector<std::string> *args,
   }
   std::stringstream text;
   text << in.rdbuf();
-  cJSON *root = cJSON_Parse(text.str().c_str());
+  return scene_text_to_arguments(text.str(), path, args, error);
+}
+
+bool scene_text_to_arguments(const std::string &text, const std::string &path, std::vector<std::string> *args,
+                             std::string *error)
+{
+  Options declared("render", "", "");
+  declare_render_options(declared);
+  cJSON *root = cJSON_Parse(text.c_str());
   if (!root || !cJSON_IsObject(root)) {
     *error = path + ": not a JSON object";
     cJSON_Delete(root);

@@ -19,5 +19,8 @@ void declare_render_options(Options &o);
 // become flags when true, arrays become comma-separated lists). Returns false and fills error
 // with one line naming the file and the problem.
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error);
+// The same from the file's text (`path` names it in messages and anchors relative paths).
+bool scene_text_to_arguments(const std::string &text, const std::string &path, std::vector<std::string> *args,
+                             std::string *error);
 
 }  // namespace sl

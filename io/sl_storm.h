@@ -1,5 +1,6 @@
-/* Reading storm-simulation output (WRF wrfout files) into the renderer's uniform ENU grid.
- * Mixing ratios become number concentrations eta = rho_dry * q / m_particle (DESIGN.md). */
+/* Reading storm-simulation output (WRF wrfout files, CM1 and CF-NetCDF) into the renderer's
+ * uniform ENU grid. Mixing ratios become number concentrations eta = rho_dry * q / m_particle
+ * (DESIGN.md); docs/DATA.md tables the microphysics schemes and how each species is mapped. */
 #ifndef SL_STORM_H
 #define SL_STORM_H
 
@@ -12,6 +13,23 @@ extern "C" {
 #endif
 
 #define SL_MAX_TIMES 4096
+#define SL_MAX_SPECIES 8
+
+/* Storm file formats sl_storm_read_info recognises by content. */
+typedef enum sl_storm_format { SL_STORM_WRF = 0, SL_STORM_CM1 = 1, SL_STORM_CF = 2 } sl_storm_format;
+
+/* One hydrometeor variable of the file and the particle type(s) it feeds. A species whose warm
+ * and cold types differ is split per cell at 0 C (simple-ice and warm-rain schemes). Particles of
+ * a species without a type of its own (graupel, hail) are drawn with the target type's optics at
+ * the species' own extinction per unit mass (docs/DATA.md). */
+typedef struct sl_species {
+  char variable[64];          /* mixing ratio or mass fraction, kg/kg */
+  char number_variable[64];   /* number per kg of dry air (double-moment schemes), "" when none */
+  int warm, cold;             /* sl_particle above / below 0 C; equal when not split */
+  const char *kind;           /* "cloud water", "graupel", ... (static) */
+  double radius_m, density_kg_m3; /* representative particle of the species (single-moment mass) */
+  int per_moist_air;          /* CF mass fraction: per kg of moist air, not dry air */
+} sl_species;
 
 typedef struct sl_field_stats {
   int present;           /* the file has a variable feeding this particle type */
@@ -23,12 +41,16 @@ typedef struct sl_field_stats {
 typedef struct sl_storm_info {
   char path[1024];
   int format;                 /* netCDF format code (NC_FORMAT_*) */
+  sl_storm_format kind;       /* WRF, CM1 or generic CF */
   int nx, ny, nz;             /* mass points: west_east, south_north, bottom_top */
   int ntimes;
   double dx, dy;              /* grid spacing on the projection plane, m */
   int map_proj;               /* WRF MAP_PROJ: 1 Lambert, 2 polar stereographic, 3 Mercator, 6 lat-lon; 0 unknown */
   double truelat1, truelat2, stand_lon; /* degrees, NAN when absent */
   int mp_physics;             /* WRF MP_PHYSICS, -1 when absent */
+  char scheme[96];            /* microphysics scheme in words */
+  int nspecies;               /* hydrometeor variables found and how they map (before --field) */
+  sl_species species[SL_MAX_SPECIES];
   char times[SL_MAX_TIMES][24]; /* "YYYY-MM-DD_hh:mm:ss", empty when the file has none */
   int has_times;
 } sl_storm_info;
@@ -36,16 +58,29 @@ typedef struct sl_storm_info {
 /* One time of a storm file resampled to a uniform grid. */
 typedef struct sl_storm_frame {
   sl_volume volume;           /* eta per particle field on the ENU grid */
-  sl_field_stats stats[SL_PARTICLE_COUNT]; /* raw mixing-ratio statistics on the model grid */
+  sl_field_stats stats[SL_PARTICLE_COUNT]; /* raw statistics of the variable named after each type (QCLOUD, qc, ...) */
   double center_lat, center_lon; /* degrees, at the grid's centre column */
   double terrain_min, terrain_max; /* m above sea level */
   double model_top;           /* highest interface height, m */
   int time_index;
+  int nspecies;               /* the mapping used (after --field overrides) and per-variable stats */
+  sl_species species[SL_MAX_SPECIES];
+  sl_field_stats species_stats[SL_MAX_SPECIES];
+  double memory_estimate;     /* bytes the load needed by its estimate (output grid + buffers) */
 } sl_storm_frame;
 
+/* Zero-initialised options read the whole domain at its full resolution. */
 typedef struct sl_load_options {
   int time_index;             /* 0-based */
   double dz;                  /* output vertical spacing, m; <= 0 picks (top - ground) / (2 nz) */
+  int stride;                 /* read every stride-th column in x and y (0 or 1: all) */
+  int level_first, level_count; /* model levels [first, first + count); count 0: to the top */
+  int has_region;             /* read only the columns inside region (degrees) */
+  double region[4];           /* lat0, lat1, lon0, lon1 */
+  double max_memory;          /* bytes; 0: what the machine has available */
+  /* Per particle type: the variable that feeds it instead of the default mapping ("none": no
+   * variable); NULL keeps the default. */
+  const char *field_variable[SL_PARTICLE_COUNT];
 } sl_load_options;
 
 /* Reads the file's shape, projection attributes and times. */
@@ -53,11 +88,27 @@ int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err);
 /* Reads one time into a uniform grid (frees nothing of *frame on failure: it stays zeroed). */
 int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err);
 void sl_storm_frame_free(sl_storm_frame *frame);
+/* The same from a file image in memory (nc_open_mem; netCDF-3 and, where the library allows it,
+ * netCDF-4). `name` names the image in messages. */
+int sl_storm_load_memory(const char *name, const void *data, size_t size, const sl_load_options *opt,
+                         sl_storm_frame *frame, sl_error *err);
+
+/* The species mapping a load would use: the file's default (info->species) with the options'
+ * --field overrides applied. Fails naming an override variable the file lacks. */
+int sl_storm_map_species(const sl_storm_info *info, const sl_load_options *opt, sl_species out[SL_MAX_SPECIES],
+                         int *count, sl_error *err);
+/* Bytes a load of one time would need (output grid, per-level buffers), from the dimensions only,
+ * before anything is read. */
+double sl_storm_memory_estimate(const sl_storm_info *info, const sl_load_options *opt);
+/* Bytes this machine can give a load now (MemAvailable, else physical memory). */
+double sl_machine_memory(void);
 
 /* Dry-air density (kg/m3) from total pressure p (Pa), temperature (K) and vapour mixing ratio
  * qv (kg/kg): p = rho_d T (R_d + qv R_v), so rho_d = p / (R_d T (1 + qv / eps)). WRF's mixing
  * ratios are per kilogram of dry air, so rho_d * q is the hydrometeor mass per cubic metre. */
 double sl_dry_air_density(double pressure, double temperature, double qv);
+/* Temperature (K) from potential temperature (K) and pressure (Pa): theta (p / 1e5 Pa)^(R_d/c_p). */
+double sl_temperature_from_theta(double theta, double pressure);
 /* Temperature (K) from WRF's perturbation potential temperature T (theta - 300 K) and pressure. */
 double sl_temperature_from_wrf(double theta_perturbation, double pressure);
 

@@ -1,5 +1,6 @@
-/* WRF wrfout reader: dimensions, projection attributes, times, and one time resampled from
- * terrain-following eta levels to a uniform east-north-up grid. */
+/* WRF wrfout reader: dimensions, projection attributes, times, and one time read variable by
+ * variable from terrain-following eta levels onto a uniform east-north-up grid (remap.c). Also the
+ * load entry points, which dispatch by content to this reader or cf_read.c. */
 #include <math.h>
 #include <netcdf.h>
 #include <stdio.h>
@@ -7,7 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "sl_storm.h"
+#include "storm_internal.h"
 
 /* WRF's constants (share/module_model_constants.F): R_d = 287, c_p = 7 R_d / 2, R_v = 461.6,
  * p0 = 1e5 Pa, g = 9.81 m/s2, theta base = 300 K. */
@@ -17,7 +18,6 @@
 #define WRF_P0 1.0e5
 #define WRF_G 9.81
 #define WRF_T0 300.0
-#define WRF_FREEZE 273.15
 
 double sl_dry_air_density(double pressure, double temperature, double qv)
 {
@@ -25,106 +25,19 @@ double sl_dry_air_density(double pressure, double temperature, double qv)
   return pressure / (WRF_RD * temperature * (1.0 + qv / eps));
 }
 
+double sl_temperature_from_theta(double theta, double pressure)
+{
+  return theta * pow(pressure / WRF_P0, WRF_RD / WRF_CP);
+}
+
 double sl_temperature_from_wrf(double theta_perturbation, double pressure)
 {
-  return (theta_perturbation + WRF_T0) * pow(pressure / WRF_P0, WRF_RD / WRF_CP);
-}
-
-typedef struct nc_file {
-  int id;
-  const char *path;
-} nc_file;
-
-static int nc_check(int status, const nc_file *f, const char *what, sl_error *err)
-{
-  if (status == NC_NOERR) return SL_OK;
-  return sl_fail(err, SL_ERR_FORMAT, "%s: %s: %s", f->path, what, nc_strerror(status));
-}
-
-static int dim_length(const nc_file *f, const char *name, int *len, sl_error *err)
-{
-  int dimid;
-  size_t n;
-  if (nc_inq_dimid(f->id, name, &dimid) != NC_NOERR)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: missing dimension '%s' (not a WRF file?)", f->path, name);
-  if (nc_inq_dimlen(f->id, dimid, &n) != NC_NOERR || n == 0 || n > 100000)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: dimension '%s' has an absurd length", f->path, name);
-  *len = (int)n;
-  return SL_OK;
-}
-
-static double attr_double(const nc_file *f, int varid, const char *name, double fallback)
-{
-  double v;
-  size_t len;
-  if (nc_inq_attlen(f->id, varid, name, &len) != NC_NOERR || len < 1) return fallback;
-  if (len == 1 && nc_get_att_double(f->id, varid, name, &v) == NC_NOERR) return v;
-  return fallback;
-}
-
-/* Reads variable `name` at time t with the expected trailing dimension names, unpacking
- * scale_factor/add_offset; values equal to _FillValue/missing_value become NaN. */
-static int read_time_slice(const nc_file *f, const char *name, int t, int ndims, const char *const dims[],
-                           const int lens[], double *out, sl_error *err)
-{
-  int varid, nd, dimids[NC_MAX_VAR_DIMS];
-  if (nc_inq_varid(f->id, name, &varid) != NC_NOERR)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: missing variable '%s'", f->path, name);
-  nc_check(nc_inq_varndims(f->id, varid, &nd), f, name, err);
-  /* Time-varying variables lead with Time; some writers store static fields (HGT, XLAT, XLONG
-   * in cropped or processed files) without it, which holds for every time. */
-  const int has_time = nd == ndims + 1;
-  if (!has_time && nd != ndims)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' has %d dimensions, expected %d", f->path, name, nd,
-                   ndims + 1);
-  nc_inq_vardimid(f->id, varid, dimids);
-  size_t start[NC_MAX_VAR_DIMS] = {0}, count[NC_MAX_VAR_DIMS];
-  const int off = has_time ? 1 : 0;
-  if (has_time) {
-    start[0] = (size_t)t;
-    count[0] = 1;
-  }
-  size_t total = 1;
-  for (int d = 0; d < ndims; ++d) {
-    char dname[NC_MAX_NAME + 1];
-    size_t dlen;
-    nc_inq_dim(f->id, dimids[d + off], dname, &dlen);
-    if (strcmp(dname, dims[d]) != 0 || (int)dlen != lens[d])
-      return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' dimension %d is %s=%zu, expected %s=%d", f->path, name,
-                     d + 1 + off, dname, dlen, dims[d], lens[d]);
-    start[d + off] = 0;
-    count[d + off] = dlen;
-    total *= dlen;
-  }
-  int status = nc_get_vara_double(f->id, varid, start, count, out);
-  if (status != NC_NOERR)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: cannot read '%s' at time %d: %s", f->path, name, t, nc_strerror(status));
-  const double fill = attr_double(f, varid, "_FillValue", NAN);
-  const double missing = attr_double(f, varid, "missing_value", NAN);
-  const double scale = attr_double(f, varid, "scale_factor", 1.0);
-  const double offset = attr_double(f, varid, "add_offset", 0.0);
-  for (size_t i = 0; i < total; ++i) {
-    double v = out[i];
-    if (v == fill || v == missing) v = NAN;
-    out[i] = v * scale + offset;
-  }
-  return SL_OK;
-}
-
-static int file_open(const char *path, nc_file *f, sl_error *err)
-{
-  f->path = path;
-  f->id = -1;
-  int status = nc_open(path, NC_NOWRITE, &f->id);
-  if (status == NC_NOERR) return SL_OK;
-  if (status == NC_ENOTNC || status == NC_EHDFERR)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: not a NetCDF file (or truncated)", path);
-  return sl_fail(err, SL_ERR_IO, "%s: cannot open: %s", path, nc_strerror(status));
+  return sl_temperature_from_theta(theta_perturbation + WRF_T0, pressure);
 }
 
 /* Without Times: XTIME (minutes since a date in its units, else since START_DATE /
  * SIMULATION_START_DATE). Leaves has_times 0 when neither is usable (index-only). */
-static void times_from_xtime(const nc_file *f, sl_storm_info *info)
+static void times_from_xtime(const sl_nc *f, sl_storm_info *info)
 {
   int vid;
   if (nc_inq_varid(f->id, "XTIME", &vid) != NC_NOERR) return;
@@ -166,47 +79,67 @@ static void times_from_xtime(const nc_file *f, sl_storm_info *info)
   free(minutes);
 }
 
-int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
+static int dim_length(const sl_nc *f, const char *name, int *len, sl_error *err)
 {
-  memset(info, 0, sizeof *info);
-  snprintf(info->path, sizeof info->path, "%s", path);
-  nc_file f;
-  if (file_open(path, &f, err)) return err->code;
+  int dimid;
+  size_t n;
+  if (nc_inq_dimid(f->id, name, &dimid) != NC_NOERR)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: missing dimension '%s' (not a WRF file?)", f->path, name);
+  if (nc_inq_dimlen(f->id, dimid, &n) != NC_NOERR || n > 100000)
+    return sl_fail(err, SL_ERR_DATA, "%s: dimension '%s' has an absurd length", f->path, name);
+  if (n == 0)
+    return sl_fail(err, SL_ERR_DATA, "%s: dimension '%s' is empty (the file has no %s)", f->path, name,
+                   strcmp(name, "Time") == 0 ? "time records" : "grid points");
+  *len = (int)n;
+  return SL_OK;
+}
+
+/* WRF's projections (MAP_PROJ): 0 idealised (no projection), 1 Lambert conformal, 2 polar
+ * stereographic, 3 Mercator, 6 latitude-longitude (rotated or not). */
+static int map_proj_supported(int map_proj) { return map_proj == 0 || map_proj == 1 || map_proj == 2 || map_proj == 3 || map_proj == 6; }
+
+static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
+{
+  const char *path = f->path;
   int rc = SL_OK;
-  if ((rc = dim_length(&f, "west_east", &info->nx, err)) || (rc = dim_length(&f, "south_north", &info->ny, err)) ||
-      (rc = dim_length(&f, "bottom_top", &info->nz, err)) || (rc = dim_length(&f, "Time", &info->ntimes, err)))
-    goto done;
-  if (info->ntimes > SL_MAX_TIMES) {
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: %d times, more than this reader handles (%d)", path, info->ntimes,
-                 SL_MAX_TIMES);
-    goto done;
-  }
-  nc_inq_format(f.id, &info->format);
-  info->dx = attr_double(&f, NC_GLOBAL, "DX", NAN);
-  info->dy = attr_double(&f, NC_GLOBAL, "DY", NAN);
-  if (!(info->dx > 0.0 && info->dx < 1e6) || !(info->dy > 0.0 && info->dy < 1e6)) {
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: missing or absurd grid spacing attributes DX/DY", path);
-    goto done;
-  }
-  info->map_proj = (int)attr_double(&f, NC_GLOBAL, "MAP_PROJ", 0);
-  info->truelat1 = attr_double(&f, NC_GLOBAL, "TRUELAT1", NAN);
-  info->truelat2 = attr_double(&f, NC_GLOBAL, "TRUELAT2", NAN);
-  info->stand_lon = attr_double(&f, NC_GLOBAL, "STAND_LON", NAN);
-  info->mp_physics = (int)attr_double(&f, NC_GLOBAL, "MP_PHYSICS", -1);
+  info->kind = SL_STORM_WRF;
+  if ((rc = dim_length(f, "west_east", &info->nx, err)) || (rc = dim_length(f, "south_north", &info->ny, err)) ||
+      (rc = dim_length(f, "bottom_top", &info->nz, err)) || (rc = dim_length(f, "Time", &info->ntimes, err)))
+    return rc;
+  if (info->ntimes > SL_MAX_TIMES)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: %d times, more than this reader handles (%d)", path, info->ntimes,
+                   SL_MAX_TIMES);
+  info->dx = sl_nc_attr_double(f, NC_GLOBAL, "DX", NAN);
+  info->dy = sl_nc_attr_double(f, NC_GLOBAL, "DY", NAN);
+  if (!(info->dx > 0.0 && info->dx < 1e6) || !(info->dy > 0.0 && info->dy < 1e6))
+    return sl_fail(err, SL_ERR_FORMAT, "%s: missing or absurd grid spacing attributes DX/DY", path);
+  info->map_proj = (int)sl_nc_attr_double(f, NC_GLOBAL, "MAP_PROJ", 0);
+  if (!map_proj_supported(info->map_proj))
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: unsupported map projection MAP_PROJ=%d (supported: 1 Lambert conformal, 2 polar "
+                   "stereographic, 3 Mercator, 6 latitude-longitude)",
+                   path, info->map_proj);
+  info->truelat1 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT1", NAN);
+  info->truelat2 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT2", NAN);
+  info->stand_lon = sl_nc_attr_double(f, NC_GLOBAL, "STAND_LON", NAN);
+  info->mp_physics = (int)sl_nc_attr_double(f, NC_GLOBAL, "MP_PHYSICS", -1);
+  sl_species_wrf(f, info->mp_physics, info);
 
   /* Times(Time, <string dim>): the string dimension's name varies between writers. */
   int tid;
-  if (nc_inq_varid(f.id, "Times", &tid) == NC_NOERR) {
+  if (nc_inq_varid(f->id, "Times", &tid) == NC_NOERR) {
     int nd, dimids[NC_MAX_VAR_DIMS];
     nc_type type;
-    nc_inq_vartype(f.id, tid, &type);
-    nc_inq_varndims(f.id, tid, &nd);
-    nc_inq_vardimid(f.id, tid, dimids);
+    nc_inq_vartype(f->id, tid, &type);
+    nc_inq_varndims(f->id, tid, &nd);
     size_t slen = 0;
-    if (type == NC_CHAR && nd == 2) nc_inq_dimlen(f.id, dimids[1], &slen);
+    if (type == NC_CHAR && nd == 2) {
+      nc_inq_vardimid(f->id, tid, dimids);
+      nc_inq_dimlen(f->id, dimids[1], &slen);
+    }
     if (slen > 0 && slen < 64) {
       char *buf = calloc((size_t)info->ntimes, slen);
-      if (buf && nc_get_var_text(f.id, tid, buf) == NC_NOERR) {
+      if (buf && nc_get_var_text(f->id, tid, buf) == NC_NOERR) {
         for (int t = 0; t < info->ntimes; ++t) {
           size_t n = slen < 23 ? slen : 23;
           memcpy(info->times[t], buf + (size_t)t * slen, n);
@@ -217,235 +150,308 @@ int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
       free(buf);
     }
   }
-  if (!info->has_times) times_from_xtime(&f, info);
-done:
+  if (!info->has_times) times_from_xtime(f, info);
+  return SL_OK;
+}
+
+/* Dispatch by content: WRF's dimension names, else CF / CM1. */
+static int read_info_nc(const sl_nc *f, sl_storm_info *info, sl_error *err)
+{
+  memset(info, 0, sizeof *info);
+  snprintf(info->path, sizeof info->path, "%s", f->path);
+  nc_inq_format(f->id, &info->format);
+  info->mp_physics = -1;
+  int dimid;
+  if (nc_inq_dimid(f->id, "west_east", &dimid) == NC_NOERR || nc_inq_dimid(f->id, "bottom_top", &dimid) == NC_NOERR)
+    return wrf_read_info(f, info, err);
+  return sl_cf_read_info(f, info, err);
+}
+
+int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
+{
+  sl_nc f;
+  memset(info, 0, sizeof *info);
+  snprintf(info->path, sizeof info->path, "%s", path);
+  if (sl_nc_open(path, NULL, 0, &f, err)) return err->code;
+  const int rc = read_info_nc(&f, info, err);
   nc_close(f.id);
   return rc;
 }
 
-/* Which WRF variable feeds which particle type. Simple-ice WSM3 (MP_PHYSICS 3) puts cloud ice
- * in QCLOUD and snow in QRAIN below 0 C; the split happens per cell in sl_storm_load. */
-static const char *const FIELD_VARIABLE[SL_PARTICLE_COUNT] = {"QCLOUD", "QRAIN", "QICE", "QSNOW"};
+/* The WRF reader behind the remap: PH/PHB interfaces, P/PB/T/QVAPOR air state and the
+ * hydrometeor variables, each read once over the subset's levels and columns. */
+typedef struct wrf_levels {
+  const sl_nc *f;
+  int t;
+  const sl_subset *s;
+  size_t n2;
+  sl_nc_var ph, phb, p, pb, theta, qv;
+  sl_var_cache cache;
+  size_t l3[3];
+} wrf_levels;
 
-typedef struct column_grid {
-  int nx, ny, nz;
-  double *z_stag;   /* (nz+1) x ny x nx interface heights */
-  double *z_mass;   /* nz x ny x nx */
-  double *hgt;      /* ny x nx */
-} column_grid;
-
-/* Conservative remap of one column: model layer l spans the interfaces [zs_l, zs_{l+1}] with
- * the constant number concentration values[l]; output cell [z0, z0 + dz] gets the
- * overlap-weighted mean, so the column's particle path (sum of eta times thickness), and with
- * it the water path, is the model's exactly wherever the output spans the model column. */
-static double column_mean(const double *values, const double *zs, int nz, size_t stride, double z0, double dz)
+static int wrf_slab(wrf_levels *w, const sl_nc_var *v, int k, double *out, sl_error *err)
 {
-  const double z1 = z0 + dz;
-  double sum = 0.0;
-  for (int l = 0; l < nz; ++l) {
-    const double a = zs[(size_t)l * stride], b = zs[(size_t)(l + 1) * stride];
-    if (b <= z0) continue;
-    if (a >= z1) break;
-    const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
-    if (overlap > 0.0) sum += values[(size_t)l * stride] * overlap;
-  }
-  return sum / dz;
+  int rc = sl_nc_read_slab(w->f, v, w->t, k, w->s, out, err);
+  if (!rc) rc = sl_all_finite(w->f, v->name, w->t, out, w->n2, err);
+  return rc;
 }
 
-static int all_finite(const nc_file *f, const char *name, int t, const double *v, size_t n, sl_error *err)
+/* Two float work arrays of n floats, freed by the caller. */
+static int two_buffers(const char *path, size_t n, float **a, float **b, sl_error *err)
 {
-  for (size_t i = 0; i < n; ++i)
-    if (!isfinite(v[i]))
-      return sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path,
-                     name, t);
+  *a = malloc(n * sizeof(float));
+  *b = malloc(n * sizeof(float));
+  return *a && *b ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+}
+
+static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
+{
+  wrf_levels *w = ctx;
+  const size_t n = (size_t)nk * w->n2;
+  float *ph, *phb;
+  int rc = two_buffers(w->f->path, n, &ph, &phb, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->ph, w->t, w->s->k0 + k0, nk, w->s, ph, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->phb, w->t, w->s->k0 + k0, nk, w->s, phb, err);
+  /* Geopotential to height. */
+  for (size_t i = 0; !rc && i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
+  free(ph);
+  free(phb);
+  return rc;
+}
+
+static int wrf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
+{
+  wrf_levels *w = ctx;
+  const int k0 = w->s->k0, nk = w->s->nz;
+  const size_t n = (size_t)nk * w->n2;
+  float *pb, *theta, *qv = rho_dry; /* rho_dry holds P + PB first */
+  float *p = rho_dry;
+  int rc = two_buffers(w->f->path, n, &pb, &theta, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->p, w->t, k0, nk, w->s, p, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->pb, w->t, k0, nk, w->s, pb, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
+    pb[i] += p[i];
+    if (!(pb[i] > 0.0f)) rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", w->f->path, w->t);
+  }
+  if (!rc) rc = sl_nc_read_block(w->f, &w->theta, w->t, k0, nk, w->s, theta, err);
+  if (!rc) rc = sl_nc_read_block(w->f, &w->qv, w->t, k0, nk, w->s, qv, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
+    const double pressure = pb[i], qvap = qv[i] > 0.0f ? qv[i] : 0.0;
+    const double temperature = sl_temperature_from_wrf(theta[i], pressure);
+    frozen[i] = temperature < SL_FREEZING_K;
+    const double rho = sl_dry_air_density(pressure, temperature, qvap);
+    rho_dry[i] = (float)rho;
+    if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + qvap));
+  }
+  free(pb);
+  free(theta);
+  return rc;
+}
+
+static int wrf_field(void *ctx, const char *name, float *out, sl_error *err)
+{
+  wrf_levels *w = ctx;
+  const char *const d3[] = {"bottom_top", "south_north", "west_east"};
+  const size_t l3[] = {w->l3[0], w->l3[1], w->l3[2]};
+  const sl_nc_var *v;
+  const int rc = sl_var_cache_get(&w->cache, w->f, name, d3, l3, &v, err);
+  return rc ? rc : sl_nc_read_block(w->f, v, w->t, w->s->k0, w->s->nz, w->s, out, err);
+}
+
+/* Columns inside lat0..lat1, lon0..lon1 at time t: their bounding box in grid indices. */
+static int wrf_region(const sl_nc *f, const sl_storm_info *info, int t, const double region[4], sl_subset *s,
+                      sl_error *err)
+{
+  const char *const d2[] = {"south_north", "west_east"};
+  const size_t l2[] = {(size_t)info->ny, (size_t)info->nx};
+  const size_t n2 = (size_t)info->nx * info->ny;
+  sl_nc_var vlat, vlon;
+  sl_subset all = {0, 0, 1, info->nx, info->ny, 0, 0};
+  double *lat = malloc(n2 * sizeof(double)), *lon = malloc(n2 * sizeof(double));
+  int rc = !lat || !lon ? sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path) : SL_OK;
+  if (!rc && !(rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &vlat, err)) &&
+      !(rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &vlon, err)) && !(rc = sl_nc_read_slab(f, &vlat, t, -1, &all, lat, err)))
+    rc = sl_nc_read_slab(f, &vlon, t, -1, &all, lon, err);
+  int i0 = info->nx, i1 = -1, j0 = info->ny, j1 = -1;
+  const double lon1 = region[3] >= region[2] ? region[3] : region[3] + 360.0;
+  for (int j = 0; !rc && j < info->ny; ++j)
+    for (int i = 0; i < info->nx; ++i) {
+      const double la = lat[(size_t)j * info->nx + i];
+      double lo = lon[(size_t)j * info->nx + i];
+      lo = region[2] + fmod(fmod(lo - region[2], 360.0) + 360.0, 360.0);
+      if (la < region[0] || la > region[1] || lo > lon1) continue;
+      if (i < i0) i0 = i;
+      if (i > i1) i1 = i;
+      if (j < j0) j0 = j;
+      if (j > j1) j1 = j;
+    }
+  if (!rc && i1 < 0)
+    rc = sl_fail(err, SL_ERR_ARG, "%s: --region %g,%g,%g,%g holds no grid column at time %d", f->path, region[0],
+                 region[1], region[2], region[3], t);
+  if (!rc) {
+    s->i0 = i0, s->j0 = j0;
+    s->nx = (i1 - i0) / s->stride + 1, s->ny = (j1 - j0) / s->stride + 1;
+  }
+  free(lat);
+  free(lon);
+  return rc;
+}
+
+/* The subset of columns and levels the options ask for (whole grid by default). */
+static int load_subset(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, sl_subset *s,
+                       sl_error *err)
+{
+  s->stride = opt && opt->stride > 1 ? opt->stride : 1;
+  s->i0 = s->j0 = 0;
+  s->nx = (info->nx - 1) / s->stride + 1, s->ny = (info->ny - 1) / s->stride + 1;
+  s->k0 = opt ? opt->level_first : 0;
+  s->nz = opt && opt->level_count > 0 ? opt->level_count : info->nz - s->k0;
+  if (s->k0 < 0 || s->k0 >= info->nz || s->nz < 1 || s->k0 + s->nz > info->nz)
+    return sl_fail(err, SL_ERR_ARG, "%s: --levels %d:%d outside the file's %d model levels", f->path, s->k0,
+                   s->k0 + s->nz - 1, info->nz);
+  if (opt && opt->has_region) {
+    if (info->kind != SL_STORM_WRF)
+      return sl_fail(err, SL_ERR_ARG, "%s: --region needs XLAT/XLONG (a WRF file)", f->path);
+    return wrf_region(f, info, opt->time_index, opt->region, s, err);
+  }
   return SL_OK;
 }
 
-int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
+static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
+                    int nspecies, sl_storm_frame *frame, sl_error *err)
 {
-  memset(frame, 0, sizeof *frame);
-  sl_storm_info *info = malloc(sizeof *info);
-  if (!info) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
-  int rc = sl_storm_read_info(path, info, err);
-  if (rc) {
-    free(info);
-    return rc;
-  }
+  const char *path = f->path;
   const int t = opt ? opt->time_index : 0;
-  const int nx = info->nx, ny = info->ny, nz = info->nz;
-  if (t < 0 || t >= info->ntimes) {
-    rc = sl_fail(err, SL_ERR_ARG, "%s: time index %d out of range (the file has %d times)", path, t, info->ntimes);
-    free(info);
-    return rc;
-  }
-  nc_file f;
-  if ((rc = file_open(path, &f, err))) {
-    free(info);
-    return rc;
-  }
-  const size_t n2 = (size_t)nx * ny, n3 = n2 * nz, n3s = n2 * (nz + 1);
-  double *p = malloc(n3 * sizeof(double)), *pb = malloc(n3 * sizeof(double));
-  double *theta = malloc(n3 * sizeof(double)), *qv = malloc(n3 * sizeof(double));
-  double *ph = malloc(n3s * sizeof(double)), *phb = malloc(n3s * sizeof(double));
-  double *hgt = malloc(n2 * sizeof(double));
-  double *lat = malloc(n2 * sizeof(double)), *lon = malloc(n2 * sizeof(double));
-  double *rho = malloc(n3 * sizeof(double)), *temp = malloc(n3 * sizeof(double));
-  double *q = malloc(n3 * sizeof(double));
-  double *eta_native[SL_PARTICLE_COUNT] = {0};
-  if (!p || !pb || !theta || !qv || !ph || !phb || !hgt || !lat || !lon || !rho || !temp || !q) {
-    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for a %dx%dx%d grid", path, nx, ny, nz);
-    goto done;
-  }
+  sl_subset s;
+  int rc;
+  /* Before reading anything large: the output grid at the default resolution and the buffers. */
+  const double whole = opt && opt->has_region ? 2.0 * info->nx * info->ny * sizeof(double) : 0.0;
+  frame->memory_estimate = sl_storm_memory_estimate(info, opt) + whole;
+  if ((rc = sl_check_memory(path, frame->memory_estimate, opt, err))) return rc;
+  if ((rc = load_subset(f, info, opt, &s, err))) return rc;
+  const size_t n2 = (size_t)s.nx * s.ny;
+  wrf_levels w = {.f = f, .t = t, .s = &s, .n2 = n2, .l3 = {(size_t)info->nz, (size_t)info->ny, (size_t)info->nx}};
   const char *const d3[] = {"bottom_top", "south_north", "west_east"};
   const char *const d3s[] = {"bottom_top_stag", "south_north", "west_east"};
   const char *const d2[] = {"south_north", "west_east"};
-  const int l3[] = {nz, ny, nx}, l3s[] = {nz + 1, ny, nx}, l2[] = {ny, nx};
-  struct {
-    const char *name;
-    double *buf;
-    int nd;
-    const char *const *dims;
-    const int *lens;
-    size_t n;
-  } state[] = {{"P", p, 3, d3, l3, n3},      {"PB", pb, 3, d3, l3, n3},     {"T", theta, 3, d3, l3, n3},
-               {"QVAPOR", qv, 3, d3, l3, n3}, {"PH", ph, 3, d3s, l3s, n3s}, {"PHB", phb, 3, d3s, l3s, n3s},
-               {"HGT", hgt, 2, d2, l2, n2},   {"XLAT", lat, 2, d2, l2, n2},  {"XLONG", lon, 2, d2, l2, n2}};
-  for (size_t s = 0; s < sizeof state / sizeof state[0]; ++s) {
-    if ((rc = read_time_slice(&f, state[s].name, t, state[s].nd, state[s].dims, state[s].lens, state[s].buf, err)))
-      goto done;
-    if ((rc = all_finite(&f, state[s].name, t, state[s].buf, state[s].n, err))) goto done;
-  }
-  /* Geopotential to height on the layer interfaces. */
-  for (size_t i = 0; i < n3s; ++i) ph[i] = (ph[i] + phb[i]) / WRF_G;
-  for (size_t i = 0; i < n3; ++i) {
-    const double pressure = p[i] + pb[i];
-    const double qvap = qv[i] > 0.0 ? qv[i] : 0.0;
-    if (!(pressure > 0.0)) {
-      rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", path, t);
-      goto done;
-    }
-    temp[i] = sl_temperature_from_wrf(theta[i], pressure);
-    rho[i] = sl_dry_air_density(pressure, temp[i], qvap);
-  }
-  for (size_t k = 0; k + 1 <= (size_t)nz; ++k)
-    for (size_t c = 0; c < n2; ++c)
-      if (!(ph[(k + 1) * n2 + c] > ph[k * n2 + c])) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: geopotential heights (PH+PHB)/g do not increase upward at time %d", path,
-                     t);
-        goto done;
-      }
-
-  /* Mixing ratios to number concentration on the model grid, with WSM3's split by temperature. */
-  int any_field = 0;
-  const int simple_ice = info->mp_physics == 3;
-  for (int pt = 0; pt < SL_PARTICLE_COUNT; ++pt) {
-    int varid;
-    if (nc_inq_varid(f.id, FIELD_VARIABLE[pt], &varid) != NC_NOERR) continue;
-    if ((rc = read_time_slice(&f, FIELD_VARIABLE[pt], t, 3, d3, l3, q, err))) goto done;
-    if ((rc = all_finite(&f, FIELD_VARIABLE[pt], t, q, n3, err))) goto done;
-    sl_field_stats *st = &frame->stats[pt];
-    st->present = 1;
-    st->q_min = INFINITY;
-    st->q_max = -INFINITY;
-    double sum = 0.0;
-    for (size_t i = 0; i < n3; ++i) {
-      if (q[i] < st->q_min) st->q_min = q[i];
-      if (q[i] > st->q_max) st->q_max = q[i];
-      if (q[i] < 0.0) {
-        st->negative_count++;
-        q[i] = 0.0;
-      }
-      if (q[i] > 0.1) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at time %d is not a physical mixing ratio", path,
-                     FIELD_VARIABLE[pt], q[i], t);
-        goto done;
-      }
-      sum += q[i];
-    }
-    st->q_mean = sum / (double)n3;
-    any_field = 1;
-    /* A simple-ice scheme's liquid names hold ice below freezing. */
-    sl_particle warm = (sl_particle)pt, cold = (sl_particle)pt;
-    if (simple_ice && pt == SL_CLOUD) cold = SL_ICE;
-    if (simple_ice && pt == SL_RAIN) cold = SL_SNOW;
-    for (int which = 0; which < 2; ++which) {
-      const sl_particle target = which ? cold : warm;
-      if (which && cold == warm) break;
-      if (!eta_native[target]) {
-        eta_native[target] = calloc(n3, sizeof(double));
-        if (!eta_native[target]) {
-          rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
-          goto done;
-        }
-      }
-      const double mass = sl_particle_mass(target);
-      for (size_t i = 0; i < n3; ++i) {
-        const int frozen = temp[i] < WRF_FREEZE;
-        if (cold != warm && frozen != which) continue;
-        eta_native[target][i] += sl_number_concentration(rho[i], q[i], mass);
-      }
-    }
-  }
-  if (!any_field) {
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no hydrometeor variables (QCLOUD, QRAIN, QICE, QSNOW)", path);
+  const size_t l3[] = {(size_t)info->nz, (size_t)info->ny, (size_t)info->nx};
+  const size_t l3s[] = {(size_t)info->nz + 1, (size_t)info->ny, (size_t)info->nx};
+  const size_t l2[] = {(size_t)info->ny, (size_t)info->nx};
+  sl_nc_var hgt, xlat, xlong;
+  if ((rc = sl_nc_var_open(f, "P", 3, d3, l3, &w.p, err)) || (rc = sl_nc_var_open(f, "PB", 3, d3, l3, &w.pb, err)) ||
+      (rc = sl_nc_var_open(f, "T", 3, d3, l3, &w.theta, err)) ||
+      (rc = sl_nc_var_open(f, "QVAPOR", 3, d3, l3, &w.qv, err)) ||
+      (rc = sl_nc_var_open(f, "PH", 3, d3s, l3s, &w.ph, err)) ||
+      (rc = sl_nc_var_open(f, "PHB", 3, d3s, l3s, &w.phb, err)) || (rc = sl_nc_var_open(f, "HGT", 2, d2, l2, &hgt, err)) ||
+      (rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &xlat, err)) || (rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &xlong, err)))
+    return rc;
+  double *a = malloc(n2 * sizeof(double)), *b = malloc(n2 * sizeof(double));
+  if (!a || !b) {
+    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %zu columns", path, n2);
     goto done;
   }
-
-  /* The uniform grid: horizontal samples at the model's mass points (projection-plane spacing,
-   * centred on the grid), vertical from the lowest ground to the model top. */
+  /* The output grid spans the lowest ground (or the lowest interface read) to the highest top. */
   double ground = INFINITY, top = -INFINITY, hmax = -INFINITY;
-  for (size_t c = 0; c < n2; ++c) {
-    if (hgt[c] < ground) ground = hgt[c];
-    if (hgt[c] > hmax) hmax = hgt[c];
-    if (ph[(size_t)nz * n2 + c] > top) top = ph[(size_t)nz * n2 + c];
+  if ((rc = wrf_slab(&w, &hgt, -1, a, err))) goto done;
+  for (size_t c = 0; c < n2; ++c) ground = fmin(ground, a[c]), hmax = fmax(hmax, a[c]);
+  if (s.k0 > 0) {
+    if ((rc = wrf_interfaces(&w, 0, 1, a, err))) goto done;
+    ground = INFINITY;
+    for (size_t c = 0; c < n2; ++c) ground = fmin(ground, a[c]);
   }
-  double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * nz);
-  int nzo = (int)ceil((top - ground) / dz);
-  if (nzo < 1) nzo = 1;
-  if (nzo > 4096) {
-    rc = sl_fail(err, SL_ERR_ARG, "%s: vertical spacing %g m gives %d levels, more than 4096", path, dz, nzo);
+  if ((rc = wrf_interfaces(&w, s.nz, 1, b, err))) goto done;
+  for (size_t c = 0; c < n2; ++c) top = fmax(top, b[c]);
+  if (!(top > ground)) {
+    rc = sl_fail(err, SL_ERR_DATA, "%s: the model top lies below the ground at time %d", path, t);
     goto done;
   }
-  const double origin[3] = {-0.5 * (nx - 1) * info->dx, -0.5 * (ny - 1) * info->dy, ground + 0.5 * dz};
-  const double spacing[3] = {info->dx, info->dy, dz};
-  if ((rc = sl_volume_init(&frame->volume, nx, ny, nzo, origin, spacing, err))) goto done;
-  for (int pt = 0; pt < SL_PARTICLE_COUNT; ++pt) {
-    if (!eta_native[pt]) continue;
-    if ((rc = sl_volume_add_field(&frame->volume, (sl_particle)pt, err))) goto done;
-    float *out = frame->volume.eta[pt];
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const size_t c = (size_t)j * nx + i;
-        for (int k = 0; k < nzo; ++k)
-          out[sl_volume_index(&frame->volume, i, j, k)] =
-              (float)column_mean(eta_native[pt] + c, ph + c, nz, n2, ground + k * dz, dz);
-      }
-  }
-  const size_t cc = (size_t)(ny / 2) * nx + nx / 2;
-  frame->center_lat = lat[cc];
-  frame->center_lon = lon[cc];
+  const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
+  const double nzo = ceil((top - ground) / dz);
+  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)nzo : 1,
+                                         sl_species_type_count(species, nspecies));
+  if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
+  sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field};
+  if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground, top, dz, info->dx * s.stride,
+                            info->dy * s.stride, frame, err)))
+    goto done;
+  /* The centre column's latitude and longitude (placement of the grid on the earth). */
+  sl_subset centre = {s.i0 + (s.nx / 2) * s.stride, s.j0 + (s.ny / 2) * s.stride, 1, 1, 1, 0, 0};
+  double lat, lon;
+  if ((rc = sl_nc_read_slab(f, &xlat, t, -1, &centre, &lat, err)) ||
+      (rc = sl_nc_read_slab(f, &xlong, t, -1, &centre, &lon, err)))
+    goto done;
+  frame->center_lat = lat;
+  frame->center_lon = lon;
   frame->terrain_min = ground;
   frame->terrain_max = hmax;
   frame->model_top = top;
   frame->time_index = t;
 done:
+  free(a);
+  free(b);
+  return rc;
+}
+
+double sl_storm_memory_estimate(const sl_storm_info *info, const sl_load_options *opt)
+{
+  const int stride = opt && opt->stride > 1 ? opt->stride : 1;
+  const size_t nx = (size_t)(info->nx - 1) / stride + 1, ny = (size_t)(info->ny - 1) / stride + 1;
+  const int nz = opt && opt->level_count > 0 ? opt->level_count : info->nz - (opt ? opt->level_first : 0);
+  sl_species species[SL_MAX_SPECIES];
+  int n = info->nspecies;
+  memcpy(species, info->species, sizeof species);
+  for (int p = 0; opt && p < SL_PARTICLE_COUNT; ++p)
+    if (opt->field_variable[p] && strcmp(opt->field_variable[p], "none") != 0 && n < SL_MAX_SPECIES)
+      species[n].warm = species[n].cold = p, ++n;
+  /* Default dz: two output levels per model level. */
+  return sl_load_bytes(nx, ny, (size_t)(nz > 0 ? nz : 1), 2 * (size_t)(nz > 0 ? nz : 1), sl_species_type_count(species, n));
+}
+
+static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
+{
+  sl_storm_info *info = malloc(sizeof *info);
+  if (!info) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  int rc = read_info_nc(f, info, err);
+  const int t = opt ? opt->time_index : 0;
+  if (!rc && (t < 0 || t >= info->ntimes))
+    rc = sl_fail(err, SL_ERR_ARG, "%s: time index %d out of range (the file has %d times)", f->path, t,
+                 info->ntimes);
+  sl_species species[SL_MAX_SPECIES];
+  int nspecies = 0;
+  if (!rc) rc = sl_map_species_nc(f, info, opt, species, &nspecies, err);
+  if (!rc && nspecies == 0)
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no hydrometeor variables (%s)", f->path,
+                 info->kind == SL_STORM_WRF ? "QCLOUD, QRAIN, QICE, QSNOW, QGRAUP, QHAIL"
+                                            : "qc, qr, qi, qs, qg or a CF standard_name mass_fraction_of_..._in_air");
+  if (!rc)
+    rc = info->kind == SL_STORM_WRF ? wrf_load(f, info, opt, species, nspecies, frame, err)
+                                    : sl_cf_load(f, info, opt, species, nspecies, frame, err);
   if (rc) sl_volume_free(&frame->volume);
-  nc_close(f.id);
-  for (int pt = 0; pt < SL_PARTICLE_COUNT; ++pt) free(eta_native[pt]);
-  free(p);
-  free(pb);
-  free(theta);
-  free(qv);
-  free(ph);
-  free(phb);
-  free(hgt);
-  free(lat);
-  free(lon);
-  free(rho);
-  free(temp);
-  free(q);
   free(info);
   return rc;
 }
 
+int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
+{
+  memset(frame, 0, sizeof *frame);
+  sl_nc f;
+  if (sl_nc_open(path, NULL, 0, &f, err)) return err->code;
+  const int rc = load_nc(&f, opt, frame, err);
+  nc_close(f.id);
+  return rc;
+}
+
+int sl_storm_load_memory(const char *name, const void *data, size_t size, const sl_load_options *opt,
+                         sl_storm_frame *frame, sl_error *err)
+{
+  memset(frame, 0, sizeof *frame);
+  sl_nc f;
+  if (sl_nc_open(name, data, size, &f, err)) return err->code;
+  const int rc = load_nc(&f, opt, frame, err);
+  nc_close(f.id);
+  return rc;
+}
+
 void sl_storm_frame_free(sl_storm_frame *frame) { sl_volume_free(&frame->volume); }
+

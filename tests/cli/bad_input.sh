@@ -67,6 +67,18 @@ name=wrong_shape; make_nc "" T ""
 name=nan_field; make_nc "" "" 1
 # P alone missing: drop its declaration and data.
 cdl "" "" "" | grep -v -E "^\s*(float P\(|P = )" >"$work/nop.cdl" && ncgen -4 -o "$work/no_p.nc" "$work/nop.cdl"
+# Variants of the good file: an unsupported projection; no time records (declarations only);
+# an absurd grid (60000 x 60000 columns, nothing written: netCDF-4 stores no unwritten chunks);
+# a dimension beyond any model; a truncated netCDF-3 copy (its header intact, its data cut).
+cdl "" "" "" | sed 's/:MAP_PROJ = 1/:MAP_PROJ = 5/' >"$work/proj.cdl" && ncgen -4 -o "$work/bad_proj.nc" "$work/proj.cdl"
+cdl "" "" "" | awk '/^data:/ {print; print "}"; exit} {print}' >"$work/zero.cdl" && ncgen -4 -o "$work/zero_times.nc" "$work/zero.cdl"
+cdl "" "" "" | sed 's/west_east = 2 ; south_north = 2/west_east = 60000 ; south_north = 60000/' |
+  awk '/^data:/ {print; print "  Times = \"2024-06-15_22:00:00\" ;"; print "}"; exit} {print}' >"$work/huge.cdl" &&
+  ncgen -4 -o "$work/huge_grid.nc" "$work/huge.cdl"
+cdl "" "" "" | sed 's/west_east = 2 ;/west_east = 200000 ;/' |
+  awk '/^data:/ {print; print "}"; exit} {print}' >"$work/wide.cdl" && ncgen -4 -o "$work/absurd_dim.nc" "$work/wide.cdl"
+nccopy -k classic "$work/good.nc" "$work/good3.nc"
+head -c $(( $(stat -c %s "$work/good3.nc") - 40 )) "$work/good3.nc" >"$work/truncated3.nc"
 echo "this is not a NetCDF file" >"$work/text.nc"
 printf '{"data": "good.nc", "colour": 3}\n' >"$work/bad_scene.json"
 head -c 20000 "$datasets/cumulonimbus.nc" >"$work/truncated.nc"
@@ -90,6 +102,19 @@ expect_failure "scene not JSON" "text.nc.*not a JSON object" "$sl" render --scen
 expect_failure "time out of range" "time index 3" "$sl" render "$work/good.nc" --out "$out" --time 3 --cpu-composite
 expect_failure "info on text" "text.nc" "$sl" info "$work/text.nc"
 expect_failure "no hydrometeors" "no_hydrometeors.nc.*no hydrometeor variables" "$sl" info "$work/no_hydrometeors.nc" --json
+expect_failure "no hydrometeors (render)" "no_hydrometeors.nc.*no hydrometeor variables" "$sl" render "$work/no_hydrometeors.nc" --out "$out" --cpu-composite
+expect_failure "unsupported projection" "bad_proj.nc.*unsupported map projection MAP_PROJ=5" "$sl" render "$work/bad_proj.nc" --out "$out" --cpu-composite
+expect_failure "zero time records" "zero_times.nc.*no time records" "$sl" render "$work/zero_times.nc" --out "$out" --cpu-composite
+expect_failure "absurd grid size" "huge_grid.nc.*needs about .* GB.*--region" "$sl" render "$work/huge_grid.nc" --out "$out" --cpu-composite
+expect_failure "absurd dimension" "absurd_dim.nc.*west_east.*absurd" "$sl" info "$work/absurd_dim.nc"
+expect_failure "truncated netCDF-3" "truncated3.nc: truncated" "$sl" render "$work/truncated3.nc" --out "$out" --cpu-composite
+expect_failure "over --max-memory" "good.nc.*more than --max-memory.*--stride" "$sl" render "$work/good.nc" --out "$out" --max-memory 100 --cpu-composite
+expect_failure "bad --max-memory" "max-memory" "$sl" render "$work/good.nc" --out "$out" --max-memory lots --cpu-composite
+expect_failure "bad --field type" "field: 'hail=QRAIN'" "$sl" render "$work/good.nc" --out "$out" --field hail=QRAIN --cpu-composite
+expect_failure "--field variable missing" "good.nc.*no variable 'QGRAUP'" "$sl" info "$work/good.nc" --field snow=QGRAUP
+expect_failure "--region outside the grid" "good.nc.*holds no grid column" "$sl" render "$work/good.nc" --out "$out" --region 50,51,10,11 --cpu-composite
+expect_failure "bad --levels" "levels" "$sl" render "$work/good.nc" --out "$out" --levels 3:1 --cpu-composite
+expect_failure "--levels beyond the model" "good.nc.*--levels 0:5 outside" "$sl" info "$work/good.nc" --levels 0:5
 expect_failure "compare missing" "nope.exr" "$sl" compare "$work/nope.exr" "$work/nope2.exr"
 expect_failure "compare not EXR" "text.nc" "$sl" compare "$work/text.nc" "$work/text.nc"
 expect_failure "synth unknown kind" "unknown storm kind" "$sl" synth tornado --out "$work/out/x.nc"
@@ -102,6 +127,23 @@ else
   failures=$((failures + 1))
   echo "FAILED: negative mixing ratio clamped and counted"
   "$sl" info "$work/good.nc" --json
+fi
+# --field moves a variable to another particle type (info and render take the same options).
+if "$sl" info "$work/good.nc" --json --field snow=QRAIN | grep -q '"variable":"QRAIN","kind":"override","type":"snow"'; then
+  passes=$((passes + 1))
+else
+  failures=$((failures + 1))
+  echo "FAILED: --field snow=QRAIN feeds snow from QRAIN"
+  "$sl" info "$work/good.nc" --json --field snow=QRAIN
+fi
+# netCDF-3 and netCDF-4 of the same data give the same frame.
+if "$sl" render "$work/good.nc" --out "$work/f4.exr" --cpu-composite --quiet --width 32 --height 32 --sun-azimuth 200 --sun-elevation 30 &&
+  "$sl" render "$work/good3.nc" --out "$work/f3.exr" --cpu-composite --quiet --width 32 --height 32 --sun-azimuth 200 --sun-elevation 30 &&
+  "$sl" compare "$work/f3.exr" "$work/f4.exr" --threshold 0 >/dev/null; then
+  passes=$((passes + 1))
+else
+  failures=$((failures + 1))
+  echo "FAILED: netCDF-3 and netCDF-4 copies render the same frame"
 fi
 echo "bad_input: $passes passed, $failures failed"
 [ $failures -eq 0 ]

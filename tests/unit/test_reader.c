@@ -25,7 +25,7 @@ int main(void)
   CHECK_CLOSE(info->dx, 250.0, 0.0, 0.0);
   CHECK(info->map_proj == 1);
   sl_storm_frame f;
-  sl_load_options lo = {1, 50.0};
+  sl_load_options lo = {.time_index = 1, .dz = 50.0};
   CHECK(sl_storm_load(path, &lo, &f, &err) == SL_OK);
   CHECK(f.volume.nx == 12 && f.volume.ny == 10);
   CHECK_CLOSE(f.volume.spacing[2], 50.0, 0.0, 0.0);
@@ -62,7 +62,7 @@ int main(void)
   const char *shared = getenv("SL_SHARED_DIR");
   char real[4096];
   snprintf(real, sizeof real, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
-  sl_load_options l0 = {0, 0.0};
+  sl_load_options l0 = {.time_index = 0};
   sl_error_clear(&err);
   if (CHECK(sl_storm_load(real, &l0, &f, &err) == SL_OK)) {
     CHECK(f.stats[SL_RAIN].negative_count > 0);

@@ -1,0 +1,441 @@
+/* CF-NetCDF and CM1 storm files. CM1 (Bryan's cloud model) writes xh/yh/zh in km and the mixing
+ * ratios qc qr qi qs qg with pressure prs and potential temperature th; generic CF files name their
+ * hydrometeors by standard_name (mass_fraction_of_..._in_air) and their projection by grid_mapping.
+ * Both stream through the same level-by-level remap as WRF (remap.c). */
+#include <math.h>
+#include <netcdf.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "storm_internal.h"
+
+#define CF_RD 287.0          /* J/(kg K), as WRF and CM1 */
+#define CF_RV 461.6
+#define CF_EARTH_RADIUS 6371000.0 /* m: spacing of latitude-longitude grids on a sphere */
+
+/* Which dimension is which, and the coordinates that size the grid. */
+typedef struct cf_layout {
+  int cm1;
+  char ref[64];                 /* a hydrometeor variable that fixes the dimensions */
+  char dim[4][NC_MAX_NAME + 1]; /* time, z, y, x ("" time when the variable has none) */
+  char coord[4][NC_MAX_NAME + 1]; /* their coordinate variables: CM1's xh/yh/zh, else CF's dim names */
+  size_t len[4];
+  double x_to_m, y_to_m, z_to_m;
+  double dx, dy;
+  double lat0;                  /* degrees, for latitude-longitude grids */
+} cf_layout;
+
+static int coord_values(const sl_nc *f, const char *dim, size_t n, double *v, char *units, size_t ucap,
+                        char *stdname, size_t scap)
+{
+  int id;
+  if (nc_inq_varid(f->id, dim, &id) != NC_NOERR) return 0;
+  sl_nc_attr_text(f, id, "units", units, ucap);
+  sl_nc_attr_text(f, id, "standard_name", stdname, scap);
+  size_t start = 0;
+  return v ? nc_get_vara_double(f->id, id, &start, &n, v) == NC_NOERR : 1;
+}
+
+/* Metres per unit of a length unit; 0 when not a length (degrees: handled by the caller). */
+static double length_scale(const char *units)
+{
+  if (strcmp(units, "m") == 0 || strcmp(units, "meter") == 0 || strcmp(units, "meters") == 0 ||
+      strcmp(units, "metre") == 0 || strcmp(units, "metres") == 0)
+    return 1.0;
+  if (strcmp(units, "km") == 0 || strcmp(units, "kilometer") == 0 || strcmp(units, "kilometers") == 0) return 1000.0;
+  return 0.0;
+}
+
+static int is_degrees(const char *units) { return strncmp(units, "degree", 6) == 0; }
+
+/* Horizontal spacing (m) of coordinate `dim`, uniform within 1 %. */
+static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int cm1, double *scale, double *spacing,
+                        double *lat_mid, sl_error *err)
+{
+  double *v = malloc(n * sizeof(double));
+  char units[64] = "", stdname[128] = "";
+  if (!v) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  int rc = SL_OK;
+  if (!coord_values(f, dim, n, v, units, sizeof units, stdname, sizeof stdname)) {
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' to size the grid", f->path, dim);
+    goto done;
+  }
+  if (cm1 && !units[0]) snprintf(units, sizeof units, "km");
+  *scale = length_scale(units);
+  const double step = n > 1 ? (v[n - 1] - v[0]) / (double)(n - 1) : 0.0;
+  for (size_t i = 1; i < n && !rc; ++i)
+    if (fabs((v[i] - v[i - 1]) - step) > 0.01 * fabs(step))
+      rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' is not evenly spaced", f->path, dim);
+  if (!rc && !(step > 0.0))
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' must increase", f->path, dim);
+  if (rc) goto done;
+  if (*scale > 0.0) {
+    *spacing = step * *scale;
+  } else if (is_degrees(units)) {
+    /* Latitude-longitude: metres on a sphere at the domain's middle latitude (placement on the
+     * ellipsoid is the georeferencing's business). */
+    if (!is_x) *lat_mid = 0.5 * (v[0] + v[n - 1]);
+    *spacing = step * M_PI / 180.0 * CF_EARTH_RADIUS;
+  } else {
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' has units '%s', not a length or degrees", f->path, dim, units);
+  }
+done:
+  free(v);
+  return rc;
+}
+
+static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_error *err)
+{
+  memset(L, 0, sizeof *L);
+  L->cm1 = sl_nc_has_var(f, "xh") && sl_nc_has_var(f, "yh") && sl_nc_has_var(f, "zh");
+  /* The hydrometeor variables: CM1 names or CF standard names. */
+  int nvars;
+  nc_inq_nvars(f->id, &nvars);
+  info->nspecies = 0;
+  for (int id = 0; id < nvars && info->nspecies < SL_MAX_SPECIES; ++id) {
+    char name[NC_MAX_NAME + 1], stdname[256] = "";
+    nc_inq_varname(f->id, id, name);
+    sl_nc_attr_text(f, id, "standard_name", stdname, sizeof stdname);
+    if (sl_species_cf_match(name, stdname, L->cm1, &info->species[info->nspecies])) info->nspecies++;
+  }
+  if (info->nspecies == 0)
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: no hydrometeor variables (not a WRF, CM1 or CF storm file: no QCLOUD..., qc..., or "
+                   "standard_name mass_fraction_of_..._in_air)",
+                   f->path);
+  snprintf(L->ref, sizeof L->ref, "%s", info->species[0].variable);
+  int varid, nd, dimids[NC_MAX_VAR_DIMS], unlimited = -1;
+  nc_inq_varid(f->id, L->ref, &varid);
+  nc_inq_varndims(f->id, varid, &nd);
+  nc_inq_vardimid(f->id, varid, dimids);
+  nc_inq_unlimdim(f->id, &unlimited);
+  if (nd != 3 && nd != 4)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: '%s' has %d dimensions, expected (time,) z, y, x", f->path, L->ref, nd);
+  for (int d = 0; d < nd; ++d) {
+    const int slot = d + 4 - nd;
+    nc_inq_dim(f->id, dimids[d], L->dim[slot], &L->len[slot]);
+  }
+  if (nd == 3) L->len[0] = 1;
+  for (int d = 0; d < 4; ++d) snprintf(L->coord[d], sizeof L->coord[d], "%s", L->dim[d]);
+  if (L->cm1) {
+    snprintf(L->coord[1], sizeof L->coord[1], "zh");
+    snprintf(L->coord[2], sizeof L->coord[2], "yh");
+    snprintf(L->coord[3], sizeof L->coord[3], "xh");
+  }
+  for (int d = 0; d < 4; ++d)
+    if (L->len[d] == 0 || L->len[d] > 100000)
+      return sl_fail(err, SL_ERR_DATA, "%s: dimension '%s' has %s length %zu", f->path, L->dim[d],
+                     L->len[d] == 0 ? "zero" : "an absurd", L->len[d]);
+  int rc;
+  if ((rc = axis_spacing(f, L->coord[3], L->len[3], 1, L->cm1, &L->x_to_m, &L->dx, &L->lat0, err)) ||
+      (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, err)))
+    return rc;
+  if (L->x_to_m == 0.0) L->dx *= cos(L->lat0 * M_PI / 180.0);
+  /* Vertical: a height (m or km, up); pressure or other vertical coordinates are not read. */
+  char zunits[64] = "", zstd[128] = "", positive[16] = "";
+  coord_values(f, L->coord[1], L->len[1], NULL, zunits, sizeof zunits, zstd, sizeof zstd);
+  if (L->cm1 && !zunits[0]) snprintf(zunits, sizeof zunits, "km");
+  int zid;
+  if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
+  L->z_to_m = length_scale(zunits);
+  if (!(L->z_to_m > 0.0) || strcmp(positive, "down") == 0)
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: vertical coordinate '%s' (units '%s') is not a height in m or km: only height levels are read",
+                   f->path, L->coord[1], zunits);
+  return SL_OK;
+}
+
+/* CF grid_mapping to WRF's MAP_PROJ codes (the georeferencing speaks WRF). */
+static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info, sl_error *err)
+{
+  int varid, gid;
+  char gm[NC_MAX_NAME + 1] = "", name[128] = "";
+  nc_inq_varid(f->id, L->ref, &varid);
+  info->truelat1 = info->truelat2 = info->stand_lon = NAN;
+  if (!sl_nc_attr_text(f, varid, "grid_mapping", gm, sizeof gm) || !gm[0]) {
+    info->map_proj = L->x_to_m == 0.0 ? 6 : 0;
+    return SL_OK;
+  }
+  if (nc_inq_varid(f->id, gm, &gid) != NC_NOERR)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: grid_mapping variable '%s' is missing", f->path, gm);
+  sl_nc_attr_text(f, gid, "grid_mapping_name", name, sizeof name);
+  if (strcmp(name, "lambert_conformal_conic") == 0) info->map_proj = 1;
+  else if (strcmp(name, "polar_stereographic") == 0) info->map_proj = 2;
+  else if (strcmp(name, "mercator") == 0) info->map_proj = 3;
+  else if (strcmp(name, "latitude_longitude") == 0 || strcmp(name, "rotated_latitude_longitude") == 0) info->map_proj = 6;
+  else
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: unsupported projection grid_mapping_name '%s' (supported: lambert_conformal_conic, "
+                   "polar_stereographic, mercator, latitude_longitude, rotated_latitude_longitude)",
+                   f->path, name);
+  double par[2] = {NAN, NAN};
+  size_t n = 0;
+  if (nc_inq_attlen(f->id, gid, "standard_parallel", &n) == NC_NOERR && n >= 1 && n <= 2) {
+    nc_get_att_double(f->id, gid, "standard_parallel", par);
+    info->truelat1 = par[0];
+    info->truelat2 = n == 2 ? par[1] : par[0];
+  }
+  info->stand_lon = sl_nc_attr_double(f, gid, "longitude_of_central_meridian",
+                                      sl_nc_attr_double(f, gid, "straight_vertical_longitude_from_pole", NAN));
+  return SL_OK;
+}
+
+/* Times from a CF time coordinate "<unit> since <date>"; CM1's bare "seconds" stays index-only. */
+static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
+{
+  int id;
+  char units[128] = "";
+  if (!L->dim[0][0] || nc_inq_varid(f->id, L->dim[0], &id) != NC_NOERR) return;
+  sl_nc_attr_text(f, id, "units", units, sizeof units);
+  const char *since = strstr(units, " since ");
+  double per = 0;
+  if (strncmp(units, "second", 6) == 0) per = 1;
+  else if (strncmp(units, "minute", 6) == 0) per = 60;
+  else if (strncmp(units, "hour", 4) == 0) per = 3600;
+  else if (strncmp(units, "day", 3) == 0) per = 86400;
+  struct tm tm = {0};
+  if (!since || per == 0 ||
+      sscanf(since + 7, "%d-%d-%d%*[ _T]%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
+             &tm.tm_sec) < 3)
+    return;
+  tm.tm_year -= 1900, tm.tm_mon -= 1;
+  const time_t base = timegm(&tm);
+  double *v = malloc((size_t)info->ntimes * sizeof(double));
+  size_t start = 0, count = (size_t)info->ntimes;
+  if (v && nc_get_vara_double(f->id, id, &start, &count, v) == NC_NOERR) {
+    for (int t = 0; t < info->ntimes; ++t) {
+      const time_t at = base + (time_t)llround(v[t] * per);
+      struct tm u;
+      gmtime_r(&at, &u);
+      strftime(info->times[t], sizeof info->times[t], "%Y-%m-%d_%H:%M:%S", &u);
+    }
+    info->has_times = 1;
+  }
+  free(v);
+}
+
+int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
+{
+  cf_layout L;
+  int rc = cf_layout_of(f, &L, info, err);
+  if (rc) return rc;
+  info->kind = L.cm1 ? SL_STORM_CM1 : SL_STORM_CF;
+  snprintf(info->scheme, sizeof info->scheme, "%s",
+           L.cm1 ? "CM1 (mixing ratios qc qr qi qs qg by name)" : "CF (hydrometeors by standard_name)");
+  info->nx = (int)L.len[3], info->ny = (int)L.len[2], info->nz = (int)L.len[1];
+  info->ntimes = (int)L.len[0];
+  if (info->ntimes > SL_MAX_TIMES)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: %d times, more than this reader handles (%d)", f->path, info->ntimes,
+                   SL_MAX_TIMES);
+  info->dx = L.dx, info->dy = L.dy;
+  if ((rc = cf_projection(f, &L, info, err))) return rc;
+  cf_times(f, &L, info);
+  return SL_OK;
+}
+
+/* The level reader for CF and CM1: 1-D heights, density from the thermodynamic variables. */
+typedef struct cf_levels {
+  const sl_nc *f;
+  const cf_layout *L;
+  const sl_subset *s;
+  int t;
+  size_t n2;
+  double *z_iface;      /* interfaces of the whole column, m */
+  sl_nc_var rho, p, temp, theta, qv;
+  int have_rho, have_temp, have_theta, have_qv, qv_specific;
+  sl_var_cache cache;
+} cf_levels;
+
+static int cf_var(cf_levels *c, const char *name, sl_nc_var *v, sl_error *err)
+{
+  const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
+  const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
+  return sl_nc_var_open(c->f, name, 3, dims, lens, v, err);
+}
+
+static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
+{
+  return sl_nc_read_block(c->f, v, c->t, c->s->k0, c->s->nz, c->s, out, err);
+}
+
+static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
+{
+  (void)err;
+  cf_levels *c = ctx;
+  for (int k = 0; k < nk; ++k)
+    for (size_t i = 0; i < c->n2; ++i) z[(size_t)k * c->n2 + i] = c->z_iface[c->s->k0 + k0 + k];
+  return SL_OK;
+}
+
+static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
+{
+  cf_levels *c = ctx;
+  const size_t n = (size_t)c->s->nz * c->n2;
+  float *qv = calloc(n, sizeof(float)), *a = malloc(n * sizeof(float)), *temp = malloc(n * sizeof(float));
+  int rc = qv && a && temp ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
+  if (!rc && c->have_qv) rc = cf_block(c, &c->qv, qv, err);
+  /* Temperature where the file has it (or potential temperature and pressure); without any, no
+   * cell is below freezing (only split species need it, and those are refused without one). */
+  if (!rc && (c->have_temp || c->have_theta)) rc = cf_block(c, c->have_temp ? &c->temp : &c->theta, temp, err);
+  if (!rc && !c->have_rho) rc = cf_block(c, &c->p, a, err);
+  if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
+  for (size_t i = 0; !rc && i < n; ++i) {
+    /* Specific humidity q_s is per kg of moist air: mixing ratio q_s / (1 - q_s). */
+    const double q = fmax(qv[i], 0.0), r = c->qv_specific ? q / (1.0 - q) : q;
+    double t = c->have_temp || c->have_theta ? temp[i] : INFINITY, rho;
+    if (c->have_rho) {
+      rho = a[i] / (1.0 + r);
+    } else {
+      const double p = a[i];
+      if (!(p > 0.0)) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
+        break;
+      }
+      if (!c->have_temp) t = sl_temperature_from_theta(t, p);
+      rho = sl_dry_air_density(p, t, r);
+    }
+    frozen[i] = t < SL_FREEZING_K;
+    rho_dry[i] = (float)rho;
+    if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + r));
+  }
+  free(qv);
+  free(a);
+  free(temp);
+  return rc;
+}
+
+static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
+{
+  cf_levels *c = ctx;
+  const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
+  const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
+  const sl_nc_var *v;
+  const int rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &v, err);
+  return rc ? rc : cf_block(c, v, out, err);
+}
+
+/* A variable by CM1 name or by CF standard_name. */
+static int find_var(const sl_nc *f, int cm1, const char *cm1_name, const char *standard_name, char *out)
+{
+  if (cm1) {
+    snprintf(out, NC_MAX_NAME + 1, "%s", cm1_name);
+    return sl_nc_has_var(f, cm1_name);
+  }
+  int nvars;
+  nc_inq_nvars(f->id, &nvars);
+  for (int id = 0; id < nvars; ++id) {
+    char s[256];
+    if (sl_nc_attr_text(f, id, "standard_name", s, sizeof s) && strcmp(s, standard_name) == 0) {
+      nc_inq_varname(f->id, id, out);
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* Interfaces of the 1-D height levels: zf when the file has it (CM1), else midpoints between
+ * levels, the outer interfaces half a layer beyond the outer levels. */
+static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *err)
+{
+  const size_t n = L->len[1];
+  double *zh = malloc(n * sizeof(double));
+  if (!zh) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  char u[8], s[8];
+  if (!coord_values(f, L->coord[1], n, zh, u, sizeof u, s, sizeof s)) {
+    free(zh);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' for the heights", f->path, L->coord[1]);
+  }
+  int zf;
+  size_t zn = 0;
+  int nd = 0, dimid;
+  if (L->cm1 && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
+      nc_inq_vardimid(f->id, zf, &dimid) == NC_NOERR && nc_inq_dimlen(f->id, dimid, &zn) == NC_NOERR && zn == n + 1) {
+    size_t start = 0;
+    nc_get_vara_double(f->id, zf, &start, &zn, zi);
+  } else {
+    /* A single level stands for the layer from the ground (0) to twice its height. */
+    for (size_t k = 1; k < n; ++k) zi[k] = 0.5 * (zh[k - 1] + zh[k]);
+    zi[0] = n > 1 ? zh[0] - (zi[1] - zh[0]) : 0.0;
+    zi[n] = n > 1 ? zh[n - 1] + (zh[n - 1] - zi[n - 1]) : 2.0 * zh[0];
+  }
+  for (size_t k = 0; k <= n; ++k) zi[k] *= L->z_to_m;
+  free(zh);
+  for (size_t k = 0; k < n; ++k)
+    if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->coord[1]);
+  return SL_OK;
+}
+
+int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
+               int nspecies, sl_storm_frame *frame, sl_error *err)
+{
+  cf_layout L;
+  sl_storm_info *scratch = malloc(sizeof *scratch);
+  if (!scratch) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  int rc = cf_layout_of(f, &L, scratch, err);
+  free(scratch);
+  if (rc) return rc;
+  if (opt && opt->has_region) return sl_fail(err, SL_ERR_ARG, "%s: --region needs a WRF file (XLAT/XLONG)", f->path);
+  frame->memory_estimate = sl_storm_memory_estimate(info, opt);
+  if ((rc = sl_check_memory(f->path, frame->memory_estimate, opt, err))) return rc;
+  sl_subset s = {0, 0, opt && opt->stride > 1 ? opt->stride : 1, 0, 0, opt ? opt->level_first : 0, 0};
+  s.nx = (info->nx - 1) / s.stride + 1, s.ny = (info->ny - 1) / s.stride + 1;
+  s.nz = opt && opt->level_count > 0 ? opt->level_count : info->nz - s.k0;
+  if (s.k0 < 0 || s.nz < 1 || s.k0 + s.nz > info->nz)
+    return sl_fail(err, SL_ERR_ARG, "%s: --levels outside the file's %d levels", f->path, info->nz);
+  cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny};
+  c.z_iface = malloc((L.len[1] + 1) * sizeof(double));
+  if (!c.z_iface) {
+    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+    goto done;
+  }
+  if ((rc = cf_heights(f, &L, c.z_iface, err))) goto done;
+  /* Air: density itself, or pressure with temperature or potential temperature; vapour optional. */
+  char name[NC_MAX_NAME + 1];
+  if ((c.have_rho = find_var(f, 0, "", "air_density", name)) && (rc = cf_var(&c, name, &c.rho, err))) goto done;
+  if ((c.have_temp = find_var(f, 0, "", "air_temperature", name)) && (rc = cf_var(&c, name, &c.temp, err))) goto done;
+  if (!c.have_temp && (c.have_theta = find_var(f, L.cm1, "th", "air_potential_temperature", name)) &&
+      (rc = cf_var(&c, name, &c.theta, err)))
+    goto done;
+  if ((c.have_qv = find_var(f, L.cm1, "qv", "humidity_mixing_ratio", name))) {
+    if ((rc = cf_var(&c, name, &c.qv, err))) goto done;
+  } else if ((c.have_qv = c.qv_specific = find_var(f, 0, "", "specific_humidity", name))) {
+    if ((rc = cf_var(&c, name, &c.qv, err))) goto done;
+  }
+  const int have_p = find_var(f, L.cm1, "prs", "air_pressure", name);
+  if (!c.have_rho && (!have_p || (!c.have_temp && !c.have_theta))) {
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no air density: needs %s", f->path,
+                 L.cm1 ? "prs and th" : "air_density, or air_pressure with air_temperature or air_potential_temperature");
+    goto done;
+  }
+  if (!c.have_rho && (rc = cf_var(&c, name, &c.p, err))) goto done;
+  for (int i = 0; i < nspecies; ++i)
+    if (species[i].warm != species[i].cold && !c.have_temp && !c.have_theta) {
+      rc = sl_fail(err, SL_ERR_FORMAT, "%s: splitting '%s' at 0 C needs a temperature", f->path, species[i].variable);
+      goto done;
+    }
+  const double ground = c.z_iface[s.k0], top = c.z_iface[s.k0 + s.nz];
+  const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
+  sl_level_reader r = {&c, cf_interfaces, cf_air, cf_field};
+  if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz, info->dx * s.stride,
+                            info->dy * s.stride, frame, err)))
+    goto done;
+  /* CM1 and projected CF grids without 2-D latitudes carry no position: NaN asks for --date and
+   * --sun angles; latitude-longitude grids know their centre. */
+  frame->center_lat = frame->center_lon = NAN;
+  if (L.x_to_m == 0.0) {
+    double x, y;
+    size_t ix = s.i0 + (s.nx / 2) * s.stride, iy = s.j0 + (s.ny / 2) * s.stride;
+    int xid, yid;
+    if (nc_inq_varid(f->id, L.coord[3], &xid) == NC_NOERR && nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR &&
+        nc_inq_varid(f->id, L.coord[2], &yid) == NC_NOERR && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
+      frame->center_lat = y, frame->center_lon = x;
+  }
+  frame->terrain_min = frame->terrain_max = ground;
+  frame->model_top = top;
+  frame->time_index = c.t;
+done:
+  free(c.z_iface);
+  return rc;
+}

@@ -1,0 +1,113 @@
+/* The load shared by every format: one variable at a time (each read once, so compressed chunks
+ * are inflated once), each hydrometeor becomes an extinction-equivalent number concentration and
+ * is deposited straight into the uniform output grid by the conservative vertical remap. Held
+ * beside the output: interface heights, dry density and a freezing flag, and one hydrometeor
+ * variable (with its number concentration) at a time. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "storm_internal.h"
+
+/* Conservative remap of one model layer [a, b] of constant value `eta` onto output cells
+ * [ground + k dz, ground + (k + 1) dz]: each cell gains eta times its overlap / dz, so the column's
+ * particle path (sum of eta times thickness), and with it the water path, is the model's wherever
+ * the output spans the model column. */
+static void deposit_layer(float *column, size_t stride, int nzo, double ground, double dz, double a, double b,
+                          double eta)
+{
+  if (eta == 0.0 || b <= a) return;
+  int k0 = (int)floor((a - ground) / dz), k1 = (int)floor((b - ground) / dz);
+  if (k0 < 0) k0 = 0;
+  if (k1 > nzo - 1) k1 = nzo - 1;
+  for (int k = k0; k <= k1; ++k) {
+    const double z0 = ground + k * dz, z1 = z0 + dz;
+    const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
+    if (overlap > 0.0) column[(size_t)k * stride] += (float)(eta * overlap / dz);
+  }
+}
+
+int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
+                    int nspecies, double ground, double top, double dz, double dx, double dy, sl_storm_frame *frame,
+                    sl_error *err)
+{
+  const int nx = s->nx, ny = s->ny, nz = s->nz;
+  const size_t n2 = (size_t)nx * ny, n3 = n2 * nz;
+  int nzo = (int)ceil((top - ground) / dz);
+  if (nzo < 1) nzo = 1;
+  if (nzo > 4096)
+    return sl_fail(err, SL_ERR_ARG, "%s: vertical spacing %g m gives %d levels, more than 4096", path, dz, nzo);
+  int moist = 0, number = 0;
+  for (int i = 0; i < nspecies; ++i) moist |= species[i].per_moist_air, number |= species[i].number_variable[0] != 0;
+  /* Held for the whole load: interface heights (double: the remap's conservation rests on them),
+   * density and the freezing flag; one hydrometeor variable (and its number) at a time. */
+  double *z = malloc((n3 + n2) * sizeof(double));
+  float *rho_dry = malloc(n3 * sizeof(float)), *rho_moist = moist ? malloc(n3 * sizeof(float)) : NULL;
+  float *q = malloc(n3 * sizeof(float)), *qn = number ? malloc(n3 * sizeof(float)) : NULL;
+  unsigned char *frozen = malloc(n3);
+  double *sums = calloc((size_t)nspecies + 1, sizeof(double));
+  int rc = SL_OK;
+  if (!z || !rho_dry || (moist && !rho_moist) || !q || (number && !qn) || !frozen || !sums) {
+    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %d x %d x %d cells", path, nx, ny, nz);
+    goto done;
+  }
+  if ((rc = r->interfaces(r->ctx, 0, nz + 1, z, err))) goto done;
+  for (size_t i = 0; i < n3; ++i)
+    if (!(z[i + n2] > z[i])) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: heights do not increase upward at model level %d", path,
+                   s->k0 + (int)(i / n2));
+      goto done;
+    }
+  if ((rc = r->air(r->ctx, rho_dry, rho_moist, frozen, err))) goto done;
+  const double origin[3] = {-0.5 * (nx - 1) * dx, -0.5 * (ny - 1) * dy, ground + 0.5 * dz};
+  const double spacing[3] = {dx, dy, dz};
+  if ((rc = sl_volume_init(&frame->volume, nx, ny, nzo, origin, spacing, err))) goto done;
+  for (int i = 0; i < nspecies; ++i)
+    for (int b = 0; b < 2; ++b) {
+      const int p = b ? species[i].cold : species[i].warm;
+      if (!frame->volume.eta[p] && (rc = sl_volume_add_field(&frame->volume, (sl_particle)p, err))) goto done;
+    }
+  for (int i = 0; i < nspecies; ++i) {
+    const sl_species *sp = &species[i];
+    sl_field_stats *st = &frame->species_stats[i];
+    st->present = 1, st->q_min = INFINITY, st->q_max = -INFINITY;
+    if ((rc = r->field(r->ctx, sp->variable, q, err))) goto done;
+    if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, qn, err))) goto done;
+    const float *rho_air = sp->per_moist_air ? rho_moist : rho_dry;
+    for (size_t i3 = 0; i3 < n3; ++i3) {
+      double v = q[i3];
+      if (v < st->q_min) st->q_min = v;
+      if (v > st->q_max) st->q_max = v;
+      if (v < 0.0) {
+        st->negative_count++;
+        v = 0.0;
+      }
+      if (v > 0.1) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
+                     sp->variable, v, s->k0 + (int)(i3 / n2));
+        goto done;
+      }
+      sums[i] += v;
+      if (v == 0.0) continue;
+      const size_t c = i3 % n2;
+      const int target = frozen[i3] ? sp->cold : sp->warm;
+      const double eta =
+          sl_species_eta(sp, target, rho_air[i3], v, rho_dry[i3], sp->number_variable[0] ? qn[i3] : -1.0);
+      deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3], z[i3 + n2], eta);
+    }
+    st->q_mean = sums[i] / (double)n3;
+    frame->species[i] = *sp;
+    const int own = sp->radius_m == sl_particle_properties((sl_particle)sp->warm)->radius_m;
+    if (own && !frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
+  }
+  frame->nspecies = nspecies;
+done:
+  free(z);
+  free(rho_dry);
+  free(rho_moist);
+  free(q);
+  free(qn);
+  free(frozen);
+  free(sums);
+  return rc;
+}

@@ -1,0 +1,99 @@
+/* Shared by the storm readers (wrf_read.c, cf_read.c): NetCDF helpers, the species mapping and
+ * the remap that turns one variable at a time into the uniform grid. Not installed. */
+#ifndef SL_STORM_INTERNAL_H
+#define SL_STORM_INTERNAL_H
+
+#include <stddef.h>
+
+#include "sl_storm.h"
+
+#define SL_FREEZING_K 273.15
+
+typedef struct sl_nc {
+  int id;
+  const char *path;
+} sl_nc;
+
+/* The columns and levels a load reads: x = i0 + stride * i for i < nx, the same in y, model levels
+ * k0 .. k0 + nz - 1 (interfaces k0 .. k0 + nz). */
+typedef struct sl_subset {
+  int i0, j0, stride, nx, ny;
+  int k0, nz;
+} sl_subset;
+
+/* A variable opened for slab reads: unpacking and fill values resolved once. */
+typedef struct sl_nc_var {
+  int varid, ndims, has_time;
+  double scale, offset, fill, missing;
+  char name[64];
+} sl_nc_var;
+
+int sl_nc_open(const char *path, const void *data, size_t size, sl_nc *f, sl_error *err);
+double sl_nc_attr_double(const sl_nc *f, int varid, const char *name, double fallback);
+int sl_nc_attr_text(const sl_nc *f, int varid, const char *name, char *out, size_t cap);
+int sl_nc_has_var(const sl_nc *f, const char *name);
+/* Opens `name` and checks that its trailing `ndims` dimensions have the given lengths (names too
+ * when dim_names is not NULL); a leading time dimension is optional (static fields). */
+int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *const *dim_names, const size_t *lens,
+                   sl_nc_var *v, sl_error *err);
+/* Reads the horizontal slab at time t and level k (k < 0 for a 2-D variable) over the subset's
+ * columns into out[ny][nx], unpacked; fill/missing values become NaN. */
+int sl_nc_read_slab(const sl_nc *f, const sl_nc_var *v, int t, int k, const sl_subset *s, double *out,
+                    sl_error *err);
+/* The variables a reader has opened, by name (each opened and checked once per load). */
+typedef struct sl_var_cache {
+  sl_nc_var vars[16];
+  int count;
+} sl_var_cache;
+/* The opened variable `name` of 3-D shape (dims, lens), opening it on first use. */
+int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, const char *const dims[3],
+                     const size_t lens[3], const sl_nc_var **out, sl_error *err);
+/* Levels k0 .. k0 + nk - 1 of a variable at time t over the subset's columns, as floats
+ * ([level][y][x]), unpacked, failing on NaN/Inf/fill naming the variable. One call per variable:
+ * compressed chunks are inflated once, whatever their shape. */
+int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
+                     sl_error *err);
+/* Fails on NaN/Inf naming the variable. */
+int sl_all_finite(const sl_nc *f, const char *name, int t, const double *v, size_t n, sl_error *err);
+
+/* What a format reader supplies to the remap, one whole variable (the subset's levels and
+ * columns) per call. Levels are counted from the subset's first. */
+typedef struct sl_level_reader {
+  void *ctx;
+  /* Heights (m above sea level) of interfaces k0 .. k0 + nk - 1 ([k][y][x], 0 .. nz of the subset). */
+  int (*interfaces)(void *ctx, int k0, int nk, double *z, sl_error *err);
+  /* Dry-air density (kg/m3), moist-air density (NULL when not wanted) and whether each cell is
+   * below 0 C, for the subset's levels. */
+  int (*air)(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err);
+  /* Values of a hydrometeor variable over the subset's levels (unpacked, checked finite). */
+  int (*field)(void *ctx, const char *name, float *out, sl_error *err);
+} sl_level_reader;
+
+/* Fills frame->volume from the mapped species, one variable at a time, with the conservative
+ * vertical remap; ground/top are the output grid's bottom and top (m); dx, dy the output spacing. */
+int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
+                    int nspecies, double ground, double top, double dz, double dx, double dy, sl_storm_frame *frame,
+                    sl_error *err);
+
+/* Number of distinct particle types the species feed. */
+int sl_species_type_count(const sl_species *species, int n);
+/* Default species of a WRF file from the variables it has and its MP_PHYSICS. */
+void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info);
+int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt,
+                      sl_species out[SL_MAX_SPECIES], int *count, sl_error *err);
+/* A CM1 name (cm1 != 0) or CF standard_name of a hydrometeor: fills *sp and returns 1. */
+int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1, sl_species *sp);
+/* Extinction-equivalent number concentration (m^-3) of `target` particles for one cell: the
+ * species' mass concentration rho_air * q and, for double-moment schemes, its number
+ * concentration rho_dry * qn (qn < 0: none). */
+double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn);
+/* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
+double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
+
+int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err);
+int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
+               int nspecies, sl_storm_frame *frame, sl_error *err);
+/* Limits a load to the machine's memory or --max-memory. */
+int sl_check_memory(const char *path, double need, const sl_load_options *opt, sl_error *err);
+
+#endif

@@ -1,0 +1,343 @@
+/* Microphysics species, air density and the CF/CM1 readers on tiny files written from CDL by
+ * ncgen, whose values are chosen here so that the expected concentrations follow by hand; and
+ * the subset options and the series API on the real Katrina file. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "sl_series.h"
+#include "sl_storm.h"
+#include "sl_testing.h"
+
+static char dir[] = "/tmp/sl_test_species_XXXXXX";
+
+/* Writes CDL text to NAME.cdl and NAME.nc (netCDF-4) and returns the .nc path. */
+static const char *make(const char *name, const char *cdl)
+{
+  static char nc[8][512];
+  static int which;
+  char path[600], cmd[1400];
+  snprintf(path, sizeof path, "%s/%s.cdl", dir, name);
+  FILE *f = fopen(path, "w");
+  fputs(cdl, f);
+  fclose(f);
+  char *out = nc[which++ % 8];
+  snprintf(out, 512, "%s/%s.nc", dir, name);
+  snprintf(cmd, sizeof cmd, "ncgen -4 -o %s %s", out, path);
+  if (system(cmd) != 0) fprintf(stderr, "ncgen failed on %s\n", path);
+  return out;
+}
+
+/* One model layer from 0 to 1000 m over 2x2 columns at two times: p = 85000 Pa, theta = 300 K +
+ * theta_pert, qv = 0.01; `decl` and `data` add the hydrometeors (8 values each). */
+static const char *wrf(const char *name, int mp, double theta_pert, const char *times, const char *decl,
+                       const char *data)
+{
+  char cdl[8192];
+  const double t = theta_pert;
+  snprintf(cdl, sizeof cdl,
+           "netcdf %s {\n dimensions: Time = UNLIMITED ; DateStrLen = 19 ; west_east = 2 ; south_north = 2 ;"
+           " bottom_top = 1 ; bottom_top_stag = 2 ;\n variables:\n char Times(Time, DateStrLen) ;\n"
+           " float P(Time, bottom_top, south_north, west_east) ; float PB(Time, bottom_top, south_north, west_east) ;\n"
+           " float T(Time, bottom_top, south_north, west_east) ; float QVAPOR(Time, bottom_top, south_north, west_east) ;\n"
+           " float PH(Time, bottom_top_stag, south_north, west_east) ; float PHB(Time, bottom_top_stag, south_north, west_east) ;\n"
+           " float HGT(Time, south_north, west_east) ; float XLAT(Time, south_north, west_east) ;"
+           " float XLONG(Time, south_north, west_east) ;\n %s\n"
+           " :DX = 1000.f ; :DY = 1000.f ; :MAP_PROJ = 3 ; :MP_PHYSICS = %d ;\n data:\n Times = %s ;\n"
+           " P = 5000, 5000, 5000, 5000, 5000, 5000, 5000, 5000 ;\n"
+           " PB = 80000, 80000, 80000, 80000, 80000, 80000, 80000, 80000 ;\n"
+           " T = %g, %g, %g, %g, %g, %g, %g, %g ; QVAPOR = 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01 ;\n"
+           " PH = 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 ;\n"
+           " PHB = 0, 0, 0, 0, 9810, 9810, 9810, 9810, 0, 0, 0, 0, 9810, 9810, 9810, 9810 ;\n"
+           " HGT = 0, 0, 0, 0, 0, 0, 0, 0 ; XLAT = 25, 25, 25.01, 25.01, 25, 25, 25.01, 25.01 ;\n"
+           " XLONG = -89, -88.99, -89, -88.99, -89, -88.99, -89, -88.99 ;\n %s\n}\n",
+           name, decl, mp, times, t, t, t, t, t, t, t, t, data);
+  return make(name, cdl);
+}
+
+#define Q3 "(Time, bottom_top, south_north, west_east) ;"
+#define TWO_TIMES "\"2005-08-28_12:00:00\", \"2005-08-28_13:00:00\""
+
+/* Dry-air density by hand with textbook constants (Wallace & Hobbs 2006: R_d = 287.05, R_v = 461.5
+ * J/(kg K), kappa = 0.2857), independent of the reader's own constants: T = theta (p/p0)^kappa,
+ * virtual temperature T_v = T (1 + qv / eps) / (1 + qv), moist density p / (R_d T_v), dry density
+ * that over (1 + qv). For p = 85000 Pa, theta = 305 K, qv = 0.01: T = 291.162 K, rho_d = 1.00092. */
+static double hand_rho_dry(double p, double theta, double qv)
+{
+  const double T = theta * pow(p / 1e5, 0.2857), eps = 287.05 / 461.5;
+  const double Tv = T * (1.0 + qv / eps) / (1.0 + qv);
+  return p / (287.05 * Tv) / (1.0 + qv);
+}
+
+static double sphere_mass(double r, double density) { return density * 4.0 / 3.0 * M_PI * r * r * r; }
+
+/* The value of field p in column (i, j) at the bottom output cell (inside the single layer). */
+static double eta_at(const sl_storm_frame *f, sl_particle p, int i, int j)
+{
+  return f->volume.eta[p] ? f->volume.eta[p][sl_volume_index(&f->volume, i, j, 0)] : 0.0;
+}
+
+static int load(const char *path, const sl_load_options *opt, sl_storm_frame *f)
+{
+  sl_error err = {0};
+  sl_load_options zero = {0};
+  const int rc = sl_storm_load(path, opt ? opt : &zero, f, &err);
+  if (rc) fprintf(stderr, "%s\n", err.message);
+  return rc;
+}
+
+static void test_density_and_single_moment(void)
+{
+  const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
+  CHECK_CLOSE(rho, 1.00092, 2e-5, 0.0);
+  CHECK_CLOSE(sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01), rho, 1e-3, 0.0);
+  const char *path = wrf("wsm6", 6, 5.0, TWO_TIMES, "float QCLOUD" Q3 " float QGRAUP" Q3 " float QHAIL" Q3,
+                         "QCLOUD = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+                         "QGRAUP = 1e-3, 0, 0, 0, 1e-3, 0, 0, 0 ; QHAIL = 0, 1e-3, 0, 0, 0, 1e-3, 0, 0 ;");
+  sl_storm_frame f;
+  if (load(path, NULL, &f)) return;
+  /* Cloud: eta = rho_d q / m, m of a 10 um water sphere (Riley et al. 2004, Table 2). */
+  const double cloud_rho = eta_at(&f, SL_CLOUD, 1, 1) * sphere_mass(10e-6, 1000.0) / 1e-3;
+  printf("air density from the loaded cloud: %.6f kg/m3, by hand %.6f (%.3f %%)\n", cloud_rho, rho,
+         100.0 * (cloud_rho / rho - 1.0));
+  CHECK_CLOSE(cloud_rho, rho, 1e-3, 0.0);
+  /* Graupel 2 mm at 400 kg/m3: extinction per mass 3 / (2 rho r) = 3.75 m2/kg, drawn as snow
+   * particles of Table 2's cross-section 1.41e-5 m2; hail 1 cm at 900 kg/m3: 0.3333 m2/kg. */
+  CHECK_CLOSE(eta_at(&f, SL_SNOW, 0, 0), rho * 1e-3 * 3.75 / 1.41e-5, 1e-3, 0.0);
+  CHECK_CLOSE(eta_at(&f, SL_SNOW, 1, 0), rho * 1e-3 * (1.0 / 3.0) / 1.41e-5, 1e-3, 0.0);
+  CHECK(f.nspecies == 3);
+  sl_storm_frame_free(&f);
+
+  /* --field snow=QGRAUP: graupel becomes the snow type itself (snow's particle mass); hail stays
+   * out of snow, QCLOUD unchanged. */
+  sl_load_options o = {0};
+  o.field_variable[SL_SNOW] = "QGRAUP";
+  if (!load(path, &o, &f)) {
+    CHECK_CLOSE(eta_at(&f, SL_SNOW, 0, 0), rho * 1e-3 / sphere_mass(1.498e-3, 100.0), 1e-3, 0.0);
+    CHECK_CLOSE(eta_at(&f, SL_SNOW, 1, 0), 0.0, 0.0, 0.0);
+    CHECK(f.nspecies == 2);
+    sl_storm_frame_free(&f);
+  }
+  o.field_variable[SL_SNOW] = "QNOPE";
+  sl_error err = {0};
+  CHECK(sl_storm_load(path, &o, &f, &err) == SL_ERR_ARG && strstr(err.message, "QNOPE"));
+  o.field_variable[SL_SNOW] = NULL;
+  o.field_variable[SL_CLOUD] = "none";
+  if (!load(path, &o, &f)) {
+    CHECK(f.volume.eta[SL_CLOUD] == NULL);
+    sl_storm_frame_free(&f);
+  }
+}
+
+static void test_split_and_double_moment(void)
+{
+  /* Kessler (warm rain) at theta = 280 K (T = 267 K): its cloud water is drawn as cloud ice. */
+  const char *kessler = wrf("kessler", 1, -20.0, TWO_TIMES, "float QCLOUD" Q3,
+                            "QCLOUD = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;");
+  sl_storm_frame f;
+  if (!load(kessler, NULL, &f)) {
+    const double rho = hand_rho_dry(85000.0, 280.0, 0.01);
+    CHECK_CLOSE(eta_at(&f, SL_CLOUD, 0, 0), 0.0, 0.0, 0.0);
+    CHECK_CLOSE(eta_at(&f, SL_ICE, 0, 0), rho * 1e-3 / sphere_mass(5.382e-4, 917.0), 1e-3, 0.0);
+    sl_storm_frame_free(&f);
+  }
+  /* The same file as WSM6 (MP_PHYSICS 6, which has ice of its own): no split. */
+  const char *wsm6 = wrf("nosplit", 6, -20.0, TWO_TIMES, "float QCLOUD" Q3,
+                         "QCLOUD = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;");
+  if (!load(wsm6, NULL, &f)) {
+    CHECK(f.volume.eta[SL_ICE] == NULL && eta_at(&f, SL_CLOUD, 0, 0) > 0.0);
+    sl_storm_frame_free(&f);
+  }
+  /* Morrison (double moment): QNRAIN of a 1 mm drop's mass gives eta = rho_d QN; eight times as
+   * many drops of the same total mass have half the radius and a quarter of the cross-section. */
+  const double m_rain = sphere_mass(1e-3, 1000.0), n1 = 1e-3 / m_rain;
+  char data[512];
+  snprintf(data, sizeof data, "QRAIN = 1e-3, 1e-3, 0, 0, 1e-3, 1e-3, 0, 0 ; QNRAIN = %.9g, %.9g, 0, 0, %.9g, %.9g, 0, 0 ;",
+           n1, 8 * n1, n1, 8 * n1);
+  const char *morrison = wrf("morrison", 10, 5.0, TWO_TIMES, "float QRAIN" Q3 " float QNRAIN" Q3, data);
+  if (!load(morrison, NULL, &f)) {
+    const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 0, 0), rho * n1, 1e-3, 0.0);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 1, 0), 2.0 * rho * n1, 1e-3, 0.0);
+    CHECK(strcmp(f.species[0].number_variable, "QNRAIN") == 0);
+    sl_storm_frame_free(&f);
+  }
+}
+
+static void test_cm1_and_cf(void)
+{
+  /* CM1: coordinates in km, zf interfaces, mixing ratios with prs and th. */
+  const char *cm1 = make("cm1",
+                         "netcdf cm1 {\n dimensions: ni = 3 ; nj = 2 ; nk = 2 ; nkp1 = 3 ; time = UNLIMITED ;\n"
+                         " variables: float xh(ni) ; xh:units = \"km\" ; float yh(nj) ; yh:units = \"km\" ;\n"
+                         " float zh(nk) ; zh:units = \"km\" ; float zf(nkp1) ; zf:units = \"km\" ;"
+                         " float time(time) ; time:units = \"seconds\" ;\n"
+                         " float qc(time, nk, nj, ni) ; float qg(time, nk, nj, ni) ; float prs(time, nk, nj, ni) ;"
+                         " float th(time, nk, nj, ni) ; float qv(time, nk, nj, ni) ;\n data:\n"
+                         " xh = 0.25, 0.75, 1.25 ; yh = 0.25, 0.75 ; zh = 0.25, 0.75 ; zf = 0, 0.5, 1 ; time = 0 ;\n"
+                         " qc = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 0, 0, 0, 0, 0, 0 ;\n"
+                         " qg = 0, 0, 0, 0, 0, 0, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+                         " prs = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n"
+                         " th = 305, 305, 305, 305, 305, 305, 305, 305, 305, 305, 305, 305 ;\n"
+                         " qv = 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01 ;\n}\n");
+  sl_storm_info *info = malloc(sizeof *info);
+  sl_error err = {0};
+  if (CHECK(sl_storm_read_info(cm1, info, &err) == SL_OK)) {
+    CHECK(info->kind == SL_STORM_CM1 && info->nx == 3 && info->ny == 2 && info->nz == 2 && info->nspecies == 2);
+    CHECK_CLOSE(info->dx, 500.0, 1e-9, 0.0);
+  } else {
+    fprintf(stderr, "%s\n", err.message);
+  }
+  sl_storm_frame f;
+  if (!load(cm1, NULL, &f)) {
+    const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
+    /* Bottom layer 0..500 m: cloud; top layer 500..1000 m: graupel as snow. Default dz = 250 m. */
+    CHECK_CLOSE(f.volume.spacing[2], 250.0, 1e-9, 0.0);
+    CHECK_CLOSE(eta_at(&f, SL_CLOUD, 2, 1), rho * 1e-3 / sphere_mass(10e-6, 1000.0), 1e-3, 0.0);
+    CHECK_CLOSE(f.volume.eta[SL_SNOW][sl_volume_index(&f.volume, 2, 1, 3)], rho * 1e-3 * 3.75 / 1.41e-5, 1e-3, 0.0);
+    CHECK_CLOSE(f.volume.eta[SL_SNOW][sl_volume_index(&f.volume, 2, 1, 1)], 0.0, 0.0, 0.0);
+    sl_storm_frame_free(&f);
+  }
+  /* Generic CF: standard names, a Lambert grid_mapping, mass fractions per kg of moist air, a time
+   * coordinate with units. */
+  const char *cf_text =
+      "netcdf cf {\n dimensions: time = 1 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " double time(time) ; time:units = \"hours since 2024-06-15 00:00:00\" ;\n"
+      " float z(z) ; z:units = \"m\" ; z:positive = \"up\" ; float y(y) ; y:units = \"km\" ;"
+      " y:standard_name = \"projection_y_coordinate\" ; float x(x) ; x:units = \"km\" ;"
+      " x:standard_name = \"projection_x_coordinate\" ;\n int lcc ; lcc:grid_mapping_name = \"%s\" ;"
+      " lcc:standard_parallel = 30., 60. ; lcc:longitude_of_central_meridian = -97. ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;"
+      " cl:grid_mapping = \"lcc\" ;\n float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n"
+      " float hus(time, z, y, x) ; hus:standard_name = \"specific_humidity\" ;\n data:\n"
+      " time = 22 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; lcc = 0 ; cl = 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+      " ta = 291.162, 291.162, 291.162, 291.162 ; pa = 85000, 85000, 85000, 85000 ; hus = 0.01, 0.01, 0.01, 0.01 ;\n}\n";
+  char text[4096];
+  snprintf(text, sizeof text, cf_text, "lambert_conformal_conic");
+  const char *cf = make("cf", text);
+  if (CHECK(sl_storm_read_info(cf, info, &err) == SL_OK)) {
+    CHECK(info->kind == SL_STORM_CF && info->map_proj == 1 && info->has_times);
+    CHECK(strcmp(info->times[0], "2024-06-15_22:00:00") == 0);
+    CHECK_CLOSE(info->truelat2, 60.0, 0.0, 0.0);
+    CHECK_CLOSE(info->dx, 3000.0, 1e-9, 0.0);
+  } else {
+    fprintf(stderr, "%s\n", err.message);
+  }
+  if (!load(cf, NULL, &f)) {
+    /* Moist density p / (R_d T_v) with the specific humidity (textbook constants): the mass
+     * fraction is per kg of moist air. */
+    const double eps = 287.05 / 461.5, tv = 291.162 * (1.0 + 0.01 * (1.0 / eps - 1.0));
+    CHECK_CLOSE(eta_at(&f, SL_CLOUD, 1, 1), 85000.0 / (287.05 * tv) * 1e-3 / sphere_mass(10e-6, 1000.0), 1e-3, 0.0);
+    CHECK_CLOSE(f.model_top, 1000.0, 1e-9, 0.0); /* one level at 500 m: interfaces 0 and 1000 */
+    sl_storm_frame_free(&f);
+  }
+  snprintf(text, sizeof text, cf_text, "geostationary");
+  const char *geos = make("geos", text);
+  sl_error_clear(&err);
+  CHECK(sl_storm_read_info(geos, info, &err) == SL_ERR_FORMAT && strstr(err.message, "unsupported projection"));
+  free(info);
+}
+
+static double column_path(const sl_storm_frame *f, int i, int j)
+{
+  double w = 0.0;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    for (int k = 0; f->volume.eta[p] && k < f->volume.nz; ++k)
+      w += f->volume.eta[p][sl_volume_index(&f->volume, i, j, k)] * sl_particle_mass((sl_particle)p) *
+           f->volume.spacing[2];
+  return w;
+}
+
+static void test_subsets(const char *katrina)
+{
+  sl_storm_frame full, sub;
+  if (load(katrina, NULL, &full)) return;
+  /* Stride 2: every other column, each column's water path unchanged (the vertical remap is per
+   * column and conservative). */
+  sl_load_options o = {.stride = 2};
+  if (!load(katrina, &o, &sub)) {
+    CHECK(sub.volume.nx == 24 && sub.volume.ny == 24);
+    CHECK_CLOSE(sub.volume.spacing[0], 20000.0, 0.0, 0.0);
+    double worst = 0.0;
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const double a = column_path(&sub, i, j), b = column_path(&full, 2 * i, 2 * j);
+        if (b > 1e-3) worst = fmax(worst, fabs(a - b) / b);
+      }
+    printf("stride 2: worst column water path difference %.2e\n", worst);
+    CHECK(worst < 1e-4);
+    sl_storm_frame_free(&sub);
+  }
+  /* Region: one degree around the centre; the subset is smaller and centred inside it. */
+  sl_load_options r = {.has_region = 1,
+                       .region = {full.center_lat - 1, full.center_lat + 1, full.center_lon - 1, full.center_lon + 1}};
+  if (!load(katrina, &r, &sub)) {
+    CHECK(sub.volume.nx < 48 && sub.volume.nx >= 15 && sub.volume.ny < 48);
+    CHECK(fabs(sub.center_lat - full.center_lat) < 0.2 && fabs(sub.center_lon - full.center_lon) < 0.2);
+    sl_storm_frame_free(&sub);
+  }
+  /* Levels 0..6 of 14: a lower top, never more water than the whole column. */
+  sl_load_options l = {.level_first = 0, .level_count = 7};
+  if (!load(katrina, &l, &sub)) {
+    CHECK(sub.model_top < 0.7 * full.model_top);
+    CHECK(column_path(&sub, 24, 24) <= column_path(&full, 24, 24) * (1 + 1e-6));
+    sl_storm_frame_free(&sub);
+  }
+  /* A limit below the estimate: refused before reading, naming the way out. */
+  sl_load_options m = {.max_memory = 1e5};
+  sl_error err = {0};
+  CHECK(sl_storm_load(katrina, &m, &sub, &err) == SL_ERR_NOMEM && strstr(err.message, "--region") &&
+        strstr(err.message, "--stride"));
+  printf("%s\n", err.message);
+  sl_storm_frame_free(&full);
+}
+
+static void test_series(void)
+{
+  /* One file per time, given out of order, plus a glob: frames come back in time order. */
+  const char *a = wrf("series_b", 6, 5.0, "\"2005-08-28_14:00:00\", \"2005-08-28_15:00:00\"", "float QCLOUD" Q3,
+                      "QCLOUD = 0, 0, 0, 0, 0, 0, 0, 0 ;");
+  const char *b = wrf("series_a", 6, 5.0, TWO_TIMES, "float QCLOUD" Q3, "QCLOUD = 0, 0, 0, 0, 0, 0, 0, 0 ;");
+  const char *list[2] = {a, b};
+  sl_series s;
+  sl_error err = {0};
+  if (CHECK(sl_series_open(list, 2, &s, &err) == SL_OK)) {
+    CHECK(s.count == 4 && s.has_times);
+    CHECK(strcmp(s.frames[0].time, "2005-08-28_12:00:00") == 0 && strcmp(s.frames[0].path, b) == 0);
+    CHECK(strcmp(s.frames[3].time, "2005-08-28_15:00:00") == 0 && s.frames[3].time_index == 1);
+    sl_series_free(&s);
+  }
+  char pattern[600];
+  snprintf(pattern, sizeof pattern, "%s/series_*.nc", dir);
+  const char *glob_list[1] = {pattern};
+  if (CHECK(sl_series_open(glob_list, 1, &s, &err) == SL_OK)) {
+    CHECK(s.count == 4 && s.npaths == 2);
+    sl_series_free(&s);
+  }
+  const char *twice[2] = {b, b};
+  sl_error_clear(&err);
+  CHECK(sl_series_open(twice, 2, &s, &err) == SL_ERR_DATA && strstr(err.message, "appears twice"));
+  snprintf(pattern, sizeof pattern, "%s/nothing_*.nc", dir);
+  sl_error_clear(&err);
+  CHECK(sl_series_open(glob_list, 1, &s, &err) == SL_ERR_IO);
+}
+
+int main(void)
+{
+  if (!mkdtemp(dir)) return 1;
+  test_density_and_single_moment();
+  test_split_and_double_moment();
+  test_cm1_and_cf();
+  const char *shared = getenv("SL_SHARED_DIR");
+  char katrina[4096];
+  snprintf(katrina, sizeof katrina, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
+  test_subsets(katrina);
+  test_series();
+  char cmd[700];
+  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
+  return sl_test_finish("test_reader_species");
+}
