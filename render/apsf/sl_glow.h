@@ -93,6 +93,11 @@ typedef struct sl_glow_params {
 
 void sl_glow_params_defaults(sl_glow_params *p);
 
+/* Haze (render/optics' sl_aerosol_rural) at three wavelengths: per channel a Henyey-Greenstein
+ * medium with q = the aerosol's asymmetry g and W0 its albedo, and the extinction relative to
+ * 550 nm, where Koschmieder's visibility defines sigma (for channel_sigma_scale). */
+int sl_glow_haze_media(const double wavelengths_nm[3], sl_apsf_medium media[3], double sigma_scale[3], sl_error *err);
+
 #define SL_GLOW_MAX_LAYERS 64
 typedef struct sl_glow_stats {
   int sources;                          /* source pixels */
