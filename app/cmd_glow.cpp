@@ -12,6 +12,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "sl_aerosol.h"
 #include "sl_glow.h"
 #include "sl_image_io.h"
 #include "sl_optics.h"
@@ -45,6 +46,8 @@ int sl_cmd_glow(int argc, char **argv)
   o.option("albedo", "W0", "single-scattering albedo, (0, 1]", "1");
   o.option("particle", "NAME", "instead of --q/--albedo: render/optics tables of cloud, rain, ice or snow at 650, 515, "
            "440 nm for red, green, blue");
+  o.option("medium", "haze|fog", "instead of --q/--albedo/--particle: haze (Shettle & Fenn's rural aerosol through Mie:\n"
+           "q = g, W0 and extinction per channel, sigma at 550 nm) or fog (cloud-droplet tables)");
   o.option("depth-channel", "NAME", "EXR channel holding the view-axis distance (only Z is read)", "Z");
   o.option("fov", "DEG", "vertical field of view of the camera that made the frame", "40");
   o.option("threshold", "L", "a pixel is a light source when its largest RGB value reaches L", "1");
@@ -96,7 +99,7 @@ int sl_cmd_glow(int argc, char **argv)
     return sl::fail(kCmd, "--sky-distance-km must be > 0", 2);
   const std::string norm = o.str("normalisation");
   if (norm != "fluence" && norm != "peak") return sl::fail(kCmd, "--normalisation must be fluence or peak", 2);
-  if (o.has("visibility-km")) p.sigma = 3.912 / (visibility * 1000.0); /* Koschmieder, 2 % contrast */
+  if (o.has("visibility-km")) p.sigma = sl_koschmieder_extinction(visibility * 1000.0); /* 2 % contrast */
   p.sky_distance = sky_km * 1000.0;
   p.fov_y_deg = fov;
   p.threshold = threshold;
@@ -107,11 +110,28 @@ int sl_cmd_glow(int argc, char **argv)
   for (int c = 0; c < 3; ++c) p.airlight[c] = airlight[c];
 
   sl_error err{};
-  // With --particle the three channels get the tables' moments and albedos (render/optics).
+  // With --particle the three channels get the tables' moments and albedos (render/optics);
+  // --medium fog is --particle cloud, --medium haze the aerosol model (not grey: per-channel sigma).
   sl_optics_tables *tables = nullptr;
   sl_apsf_medium media[3];
-  if (o.has("particle")) {
-    const int part = sl_particle_from_name(o.str("particle").c_str());
+  std::string particle = o.has("particle") ? o.str("particle") : "";
+  if (o.has("medium")) {
+    if (o.has("particle") || o.has("q") || o.has("albedo"))
+      return sl::fail(kCmd, "--medium sets the particles: give it without --particle, --q or --albedo", 2);
+    const std::string medium = o.str("medium");
+    if (medium == "fog") {
+      particle = "cloud";
+    } else if (medium == "haze") {
+      const double wavelengths[3] = {650.0, 515.0, 440.0};
+      if (sl_glow_haze_media(wavelengths, media, p.channel_sigma_scale, &err)) return sl::fail(kCmd, err.message);
+      for (int c = 0; c < 3; ++c) p.channel_medium[c] = &media[c];
+      p.medium = media[1];
+    } else {
+      return sl::fail(kCmd, "--medium must be haze or fog", 2);
+    }
+  }
+  if (!particle.empty()) {
+    const int part = sl_particle_from_name(particle.c_str());
     if (part < 0) return sl::fail(kCmd, "--particle must be cloud, rain, ice or snow", 2);
     sl_optics_request req;
     sl_optics_request_defaults(&req); /* the paper's 650, 515, 440 nm */
@@ -178,8 +198,10 @@ int sl_cmd_glow(int argc, char **argv)
     cJSON_AddStringToObject(root, "output", out_path.c_str());
     if (p.fixed_T > 0) cJSON_AddNumberToObject(root, "T", p.fixed_T);
     else cJSON_AddNumberToObject(root, "sigma_per_m", p.sigma);
-    if (tables) {
-      cJSON_AddStringToObject(root, "particle", o.str("particle").c_str());
+    if (tables || p.channel_medium[0]) {
+      if (o.has("medium")) cJSON_AddStringToObject(root, "medium", o.str("medium").c_str());
+      if (tables) cJSON_AddStringToObject(root, "particle", particle.c_str());
+      cJSON_AddItemToObject(root, "sigma_scale_rgb", cJSON_CreateDoubleArray(p.channel_sigma_scale, 3));
       double g[3], a[3];
       for (int c = 0; c < 3; ++c) g[c] = media[c].q, a[c] = media[c].albedo;
       cJSON_AddItemToObject(root, "asymmetry_rgb", cJSON_CreateDoubleArray(g, 3));

@@ -23,6 +23,7 @@
 #include "vtk_png.h"
 #include <cjson/cJSON.h>
 #ifndef SL_WITHOUT_APSF
+#include "sl_aerosol.h"
 #include "sl_glow.h"
 #endif
 #include "sl_image_io.h"
@@ -189,6 +190,8 @@ static int render_main(int argc, char **argv)
   double fog_km, fog_sky_km;
   if (!o.number("fog-visibility-km", &fog_km) || fog_km < 0 || !o.number("fog-depth-km", &fog_sky_km) || fog_sky_km <= 0)
     return sl::fail(cmd, "--fog-visibility-km must be >= 0 and --fog-depth-km > 0", 2);
+  const bool haze = o.str("fog-type") == "haze";
+  if (!haze && o.str("fog-type") != "fog") return sl::fail(cmd, "--fog-type must be fog or haze", 2);
   sl_utc date{};
   if (o.has("date")) {
     std::string why;
@@ -341,27 +344,37 @@ static int render_main(int argc, char **argv)
   }
 #else
   if (fog_km > 0) {
-    // Fog: small droplets, so the cloud tables' moments and albedos per channel (render/optics);
-    // extinction from the visibility by Koschmieder's 2 % contrast threshold, 3.912 / V.
+    // Fog: small droplets, so the cloud tables' moments and albedos per channel (render/optics).
+    // Haze: the rural aerosol through Mie, per channel q = g, W0 and extinction relative to 550 nm.
+    // Extinction from the visibility by Koschmieder's 2 % contrast threshold (sl_aerosol.h).
     sl_optics_request req;
     sl_optics_request_defaults(&req);
     req.particles = 1u << SL_CLOUD;
-    std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> fog_tables(sl_optics_build(&req, &err),
+    std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> fog_tables(haze ? nullptr : sl_optics_build(&req, &err),
                                                                               sl_optics_free);
-    if (!fog_tables) {
+    if (!haze && !fog_tables) {
       rc = sl::fail(cmd, std::string("fog tables: ") + err.message);
       goto done;
     }
     sl_glow_params gp;
     sl_glow_params_defaults(&gp);
     sl_apsf_medium media[3];
+    if (haze) {
+      const double wavelengths[3] = {650.0, 515.0, 440.0};
+      if (sl_glow_haze_media(wavelengths, media, gp.channel_sigma_scale, &err)) {
+        rc = sl::fail(cmd, std::string("haze: ") + err.message);
+        goto done;
+      }
+    }
     for (int c = 0; c < 3; ++c) {
-      const sl_phase_table *t = sl_optics_table(fog_tables.get(), SL_CLOUD, c);
-      media[c] = sl_apsf_medium{t->albedo, t->moments[1], t->moments, t->n_moments};
+      if (!haze) {
+        const sl_phase_table *t = sl_optics_table(fog_tables.get(), SL_CLOUD, c);
+        media[c] = sl_apsf_medium{t->albedo, t->moments[1], t->moments, t->n_moments};
+      }
       gp.channel_medium[c] = &media[c];
     }
     gp.medium = media[1];
-    gp.sigma = 3.912 / (fog_km * 1000.0);
+    gp.sigma = sl_koschmieder_extinction(fog_km * 1000.0);
     gp.sky_distance = fog_sky_km * 1000.0;
     /* A fog bank of that depth in front of the camera: farther things are seen through all of it
      * (the glow model reads each pixel's depth as its distance inside the medium). */

@@ -40,6 +40,8 @@ void declare_render_options(Options &o)
            "rgb");
   o.option("fog-visibility-km", "V", "glows (Narasimhan et al.) of bright sources seen through fog of small droplets "
            "(cloud tables) with this visibility; 0 = none", "0");
+  o.option("fog-type", "fog|haze", "with --fog-visibility-km: fog (small droplets, cloud tables) or haze (Shettle & Fenn's "
+           "rural aerosol through Mie, not grey)", "fog");
   o.option("fog-depth-km", "D", "with fog: how deep the fog bank in front of the camera is (what lies farther is seen "
            "through all of it)", "2");
   o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");

@@ -73,15 +73,15 @@ sl_glow_workspace *sl_glow_workspace_create(int width, int height, int rx, int r
   ws->ks = fftw_malloc(sizeof(fftw_complex) * ncplx);
   ws->cs = fftw_malloc(sizeof(fftw_complex) * ncplx);
   if (!ws->re || !ws->ks || !ws->cs) {
-    sl_glow_workspace_free(ws);
     sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for %d x %d transforms", ws->nx, ws->ny);
+    sl_glow_workspace_free(ws);
     return NULL;
   }
   ws->fwd = fftw_plan_dft_r2c_2d(ws->ny, ws->nx, ws->re, ws->cs, FFTW_ESTIMATE);
   ws->inv = fftw_plan_dft_c2r_2d(ws->ny, ws->nx, ws->cs, ws->re, FFTW_ESTIMATE);
   if (!ws->fwd || !ws->inv) {
-    sl_glow_workspace_free(ws);
     sl_fail(err, SL_ERR_NOMEM, "glow: FFTW could not plan %d x %d transforms", ws->nx, ws->ny);
+    sl_glow_workspace_free(ws);
     return NULL;
   }
   return ws;
@@ -177,6 +177,11 @@ int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float
     inverse_into(ws, ws->cs, accum[c]);
   }
   return SL_OK;
+}
+
+static double channel_scale(const sl_glow_params *p, int c)
+{
+  return p->channel_sigma_scale[c] > 0.0 ? p->channel_sigma_scale[c] : 1.0;
 }
 
 void sl_glow_params_defaults(sl_glow_params *p)
@@ -291,20 +296,22 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     const double Tl = exp(lmin + l * lstep);
     double t_kernel = 0.0, t_fft = 0.0;
     const sl_apsf_medium *built = NULL;
+    double built_scale = 0.0;
     for (int c = 0; c < 3 && rc == SL_OK; ++c) {
       const sl_apsf_medium *mc = p->channel_medium[c] ? p->channel_medium[c] : &p->medium;
+      const double scale = channel_scale(p, c);
       double t0 = now_s();
       if (!plane_spectrum(ws, src[c])) continue;
       double t1 = now_s();
       t_fft += t1 - t0;
-      if (mc != built) {
-        rc = sl_glow_model_build(km, mc, Tl, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
+      if (mc != built || scale != built_scale) {
+        rc = sl_glow_model_build(km, mc, Tl * scale, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
         if (rc) break;
         t0 = now_s();
         t_kernel += t0 - t1;
         kernel_spectrum_any(ws, NULL, km);
         t_fft += now_s() - t0;
-        built = mc;
+        built = mc, built_scale = scale;
       }
       t0 = now_s();
       multiply_spectra(ws, ws->sum[c], used[c]);
@@ -337,7 +344,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
         if (is_source) {
           base = 0.0; /* all of it is in the glow, the unscattered beam included (the kernel's Dirac) */
         } else if (T > 0.0 && p->attenuate) {
-          const double t = exp(-T);
+          const double t = exp(-T * channel_scale(p, c));
           base = px[c] * t + p->airlight[c] * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
         }
         o[c] = (float)(base + glow[c][i]);

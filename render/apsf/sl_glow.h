@@ -73,6 +73,9 @@ typedef struct sl_glow_params {
    * entries use `medium`. Distinct media cost one kernel transform each per layer. */
   const sl_apsf_medium *channel_medium[3];
   double sigma;         /* extinction coefficient of the medium (1/m), T = sigma * distance */
+  /* Optional extinction of channel c relative to sigma (0 means 1): T_c = scale_c T. Haze is
+   * not grey (render/optics' aerosol: more extinction in blue); layers stay placed in T. */
+  double channel_sigma_scale[3];
   double fixed_T;       /* > 0: every pixel at this T and depth is not read */
   double sky_distance;  /* distance (m) given to pixels of infinite depth; <= 0: such pixels are
                            neither sources nor attenuated (the sky is outside the medium) */
@@ -89,6 +92,11 @@ typedef struct sl_glow_params {
 } sl_glow_params;
 
 void sl_glow_params_defaults(sl_glow_params *p);
+
+/* Haze (render/optics' sl_aerosol_rural) at three wavelengths: per channel a Henyey-Greenstein
+ * medium with q = the aerosol's asymmetry g and W0 its albedo, and the extinction relative to
+ * 550 nm, where Koschmieder's visibility defines sigma (for channel_sigma_scale). */
+int sl_glow_haze_media(const double wavelengths_nm[3], sl_apsf_medium media[3], double sigma_scale[3], sl_error *err);
 
 #define SL_GLOW_MAX_LAYERS 64
 typedef struct sl_glow_stats {

@@ -80,6 +80,8 @@ static int trace_photon(const sl_ref_point_options *o, long index, double *bin_t
         if (bin_tally[bin] == 0.0) touched[ntouched++] = bin;
         bin_tally[bin] += weight / amu;
       }
+      /* Bounded sphere: the first outward crossing within this flight leaves the medium. */
+      if (o->bounded && ts[1] > 0.0 && ts[1] <= s) return ntouched;
     }
     for (int a = 0; a < 3; ++a) x[a] += s * d[a];
     weight *= o->albedo;

@@ -220,6 +220,9 @@ typedef struct sl_ref_point_options {
   int bins;                 /* in mu = cos(theta), uniform in theta from 0 to 180 degrees */
   long photons;
   unsigned long long seed;
+  int bounded;              /* 1: medium only inside the sphere of radius R, vacuum outside (the
+                               paper's milk bowl and its Monte Carlo check): a photon leaving the
+                               sphere is scored and ends. 0: infinite medium. */
 } sl_ref_point_options;
 
 /* Radiance at distance R = T / sigma from an isotropic point source of unit power (radiant
