@@ -79,6 +79,11 @@ bool Ranks::poll(int *frames, int *failed, int *milliseconds, bool wait) const
   return true;
 }
 
+void Ranks::broadcast(double *values, int count) const
+{
+  if (initialised_) MPI_Bcast(values, count, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
 int Ranks::sum(int value) const
 {
   if (!initialised_) return value;

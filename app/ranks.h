@@ -24,6 +24,8 @@ class Ranks {
   void report(int frames, int failed, int milliseconds) const;
   // Rank 0: one report if any arrived (non-blocking), or waits for one; false when none arrived.
   bool poll(int *frames, int *failed, int *milliseconds, bool wait) const;
+  // Rank 0's values on every rank.
+  void broadcast(double *values, int count) const;
   // Sums an integer over all ranks, result on every rank.
   int sum(int value) const;
 

@@ -14,6 +14,7 @@
 #include "movie.h"
 #include "ranks.h"
 #include "series.h"
+#include "sl_storm.h"
 
 namespace sl {
 
@@ -152,6 +153,31 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   // Nobody writes a frame before every rank has decided what is pending.
   ranks.barrier();
 
+  // One world frame for the whole series, so a moving nest moves across it and a camera path
+  // stays put: the ENU frame of the first frame's grid centre, unless --origin sets it (where the
+  // reader offers the option).
+  std::string origin;
+  double origin_ll[3] = {0, 0, 1};
+  if (o.declared("origin") && !o.has("origin")) {
+    std::string load_error;
+    if (lead) {
+      const SeriesFrame &first = series[chosen.front()];
+      sl_load_options lo{};
+      lo.time_index = first.time_index;
+      sl_storm_frame frame{};
+      sl_error err{};
+      if (sl_storm_load(first.file.c_str(), &lo, &frame, &err) == SL_OK) {
+        origin_ll[0] = frame.center_lat, origin_ll[1] = frame.center_lon, origin_ll[2] = 0;
+        sl_storm_frame_free(&frame);
+      } else {
+        load_error = err.message;
+      }
+    }
+    ranks.broadcast(origin_ll, 3);
+    if (origin_ll[2] != 0) return lead ? fail(cmd, load_error) : 1;
+    origin = number_text(origin_ll[0]) + "," + number_text(origin_ll[1]);
+  }
+
   const bool set_threads = ranks.parallel() && !o.has("threads");
   const int threads = ranks.thread_share();
   const std::vector<std::string> common = frame_options(o, argc, argv, path, set_threads);
@@ -188,6 +214,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     for (const std::string &p : patterns) outs += (outs.empty() ? "" : ",") + frame_pattern_expand(p, i);
     args.insert(args.end(), {"--out", outs});
     if (set_threads) args.insert(args.end(), {"--threads", std::to_string(threads)});
+    if (!origin.empty()) args.insert(args.end(), {"--origin", origin});
     if (!path.keys.empty()) {
       const CameraAt c = camera_path_at(path, path.by_date ? f.julian_day : (double)i);
       if (c.absolute)
@@ -256,6 +283,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     cJSON_AddNumberToObject(root, "seconds", wall);
     cJSON_AddNumberToObject(root, "seconds_per_frame", rendered ? frame_seconds / rendered : 0.0);
     if (!movie_note.empty()) cJSON_AddStringToObject(root, "movie", movie_note.c_str());
+    if (!origin.empty()) cJSON_AddItemToObject(root, "origin", cJSON_CreateDoubleArray(origin_ll, 2));
     cJSON *list = cJSON_AddArrayToObject(root, "series");
     for (int i : chosen) {
       cJSON *f = cJSON_CreateObject();

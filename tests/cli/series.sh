@@ -20,8 +20,14 @@ check "the movie has 4 frames (ffprobe)" bash -c "[ \"\$(ffprobe -v error -count
 check "no temporary files left" bash -c "! ls -A '$work/a' | grep -q '\\.tmp\$'"
 check "the frames differ in time (the sun moves, the storm moves)" bash -c "! cmp -s '$work/a/k_0000.exr' '$work/a/k_0003.exr'"
 
+# A series keeps one world frame (the first frame's centre, where the reader has --origin): the
+# single renders below are given the same one.
+origin=()
+o=$(grep -o '"origin":\[[^]]*\]' "$work/a.json" | sed -e 's/.*\[//' -e 's/\]//')
+[ -n "$o" ] && origin=(--origin "$o")
+
 # A series frame is the single render of that time: same file, same time, same sun from its date.
-"$sl" render "$katrina" --time 2 --out "$work/single2.exr" "${small[@]}" --quiet
+"$sl" render "$katrina" --time 2 --out "$work/single2.exr" "${small[@]}" "${origin[@]}" --quiet
 check "series frame 2 = single render of time 2" cmp "$work/a/k_0002.exr" "$work/single2.exr"
 
 # Interrupted: killed once the 2nd frame's files are in place; the rerun renders only the rest.
@@ -71,7 +77,7 @@ JSON
 "$sl" render "$katrina" --scene "$work/path.json" --times 0:2 --out "$work/p/k_%04d.exr" "${small[@]}" --json >"$work/p.json"
 check "camera path frames rendered" bash -c "[ \"$(json_number "$work/p.json" rendered)\" = 2 ]"
 "$sl" render "$katrina" --time 1 --camera-position -20000,-300000,20000 --camera-target 0,0,2000 --fov 35 \
-  --out "$work/p1.exr" "${small[@]}" --quiet
+  --out "$work/p1.exr" "${small[@]}" "${origin[@]}" --quiet
 check "path frame 1 = the camera a third of the way" bash -c "'$sl' compare '$work/p1.exr' '$work/p/k_0001.exr' --threshold 1e-5"
 
 # Clear one-line errors, nothing written.
