@@ -236,6 +236,14 @@ void Progress::update(double fraction)
   const int width = 30, filled = percent * width / 100;
   std::fprintf(stderr, "\r%-12s [%.*s%*s] %3d%%", label_, filled, "##############################",
                width - filled, "", percent);
+  // Remaining time at the average rate so far: what a long job (a series) needs to be planned.
+  const double elapsed = now_seconds() - start_;
+  if (percent > 0 && percent < 100) {
+    const long eta = std::lround(elapsed * (1.0 - fraction) / fraction);
+    std::fprintf(stderr, "  ETA %ld:%02ld:%02ld ", eta / 3600, eta / 60 % 60, eta % 60);
+  } else {
+    std::fprintf(stderr, "%16s", "");
+  }
   std::fflush(stderr);
 }
 

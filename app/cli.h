@@ -27,6 +27,7 @@ class Options {
 
   bool has(const std::string &name) const;  // given on the command line (or a flag set)
   bool declared(const std::string &name) const { return find(name) != nullptr; }
+  bool is_flag(const std::string &name) const { const Spec *s = find(name); return s && s->is_flag; }
   std::string str(const std::string &name) const;
   // Typed getters return false and fill error() when the value does not parse.
   bool number(const std::string &name, double *out);

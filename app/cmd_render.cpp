@@ -19,6 +19,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "composite_pass.h"
+#include "render_series.h"
 #include "scene.h"
 #include "vtk_png.h"
 #include <cjson/cJSON.h>
@@ -124,7 +125,7 @@ int sl_cmd_render(int argc, char **argv)
 
 static int render_main(int argc, char **argv)
 {
-  sl::Options o("render", "FILE --out frame.exr[,frame.png] [options]",
+  sl::Options o("render", "FILE [FILE...] --out frame.exr[,frame.png] [options]",
                 "Renders one time of a storm file with half-angle slicing (light buffer + eye buffer) and the\n"
                 "multiple-scattering phase-function lighting of Riley et al. 2004 (or their low-albedo model),\n"
                 "under the analytic sky with aerial perspective, composited with VTK's passes in a\n"
@@ -136,8 +137,11 @@ static int render_main(int argc, char **argv)
   o.flag("json", "print one JSON object: camera, sun direction, size, seconds");
   o.option("scene", "FILE.json", "read options from a scene file; command-line flags override it");
   o.option("scene-text", "FILE", "(internal) the scene file the options came from");
+  sl::declare_series_options(o);
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
+  const int series_rc = sl::render_series(o, argc, argv, render_main);
+  if (series_rc >= 0) return series_rc;
   const std::string cmd = "render";
   if (o.positional().size() != 1) return sl::fail(cmd, "give exactly one storm FILE", 2);
   const std::string path = o.positional()[0];

@@ -87,6 +87,7 @@ bool scene_text_to_arguments(const std::string &text, const std::string &path, s
   for (cJSON *item = root->child; item && ok; item = item->next) {
     const std::string key = item->string ? item->string : "";
     if (key == "comment") continue;
+    if (key == "camera_keys") continue;  // a series' camera path (app/camera_path.cpp reads it)
     if (key != "data" && (!declared.declared(key) || key == "help")) {
       *error = path + ": unknown scene key '" + key + "'";
       ok = false;

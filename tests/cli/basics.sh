@@ -3,12 +3,7 @@
 set -uo pipefail
 sl=$1 work=$2 datasets=$3
 rm -rf "$work" && mkdir -p "$work"
-passes=0 failures=0
-check() {
-  local name=$1
-  shift
-  if "$@" >"$work/log" 2>&1; then passes=$((passes + 1)); else failures=$((failures + 1)); echo "FAILED: $name"; cat "$work/log"; fi
-}
+source "$(dirname "$0")/check.sh"
 check "--version" bash -c "'$sl' --version | grep -q '^stormlight [0-9]'"
 check "--help lists commands" bash -c "'$sl' --help | grep -q render"
 for cmd in $("$sl" --help | awk '/^commands:/{on=1;next} on && NF==0 {exit} on {print $1}'); do
