@@ -261,6 +261,48 @@ static int all_finite(const nc_file *f, const char *name, int t, const double *v
   return SL_OK;
 }
 
+/* The scene around the storm: terrain height and latitude/longitude per column, kept for the
+ * terrain surface and the map overlays (app/terrain_scene). */
+static int keep_optional_column_field(const nc_file *f, const char *name, int t, int nx, int ny, double *scratch,
+                                      float **out, sl_error *err)
+{
+  int varid;
+  if (nc_inq_varid(f->id, name, &varid) != NC_NOERR) return SL_OK;
+  const char *const d2[] = {"south_north", "west_east"};
+  const int l2[] = {ny, nx};
+  const size_t n2 = (size_t)nx * ny;
+  int rc = read_time_slice(f, name, t, 2, d2, l2, scratch, err);
+  if (!rc) rc = all_finite(f, name, t, scratch, n2, err);
+  if (rc) return rc;
+  *out = malloc(n2 * sizeof(float));
+  if (!*out) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  for (size_t c = 0; c < n2; ++c) (*out)[c] = (float)scratch[c];
+  return SL_OK;
+}
+
+static int keep_columns(sl_storm_frame *frame, const nc_file *f, int t, int nx, int ny, const double *hgt,
+                        const double *lat, const double *lon, double *scratch, sl_error *err)
+{
+  const size_t n2 = (size_t)nx * ny;
+  const char *path = f->path;
+  int rc;
+  if ((rc = keep_optional_column_field(f, "ALBEDO", t, nx, ny, scratch, &frame->surface_albedo, err))) return rc;
+  if ((rc = keep_optional_column_field(f, "LANDMASK", t, nx, ny, scratch, &frame->land_mask, err))) return rc;
+  if (!frame->land_mask) {
+    if ((rc = keep_optional_column_field(f, "XLAND", t, nx, ny, scratch, &frame->land_mask, err))) return rc;
+    for (size_t c = 0; frame->land_mask && c < n2; ++c) frame->land_mask[c] = frame->land_mask[c] < 1.5f ? 1.0f : 0.0f;
+  }
+  frame->terrain_height = malloc(n2 * sizeof(float));
+  frame->column_lat = malloc(n2 * sizeof(double));
+  frame->column_lon = malloc(n2 * sizeof(double));
+  if (!frame->terrain_height || !frame->column_lat || !frame->column_lon)
+    return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+  for (size_t c = 0; c < n2; ++c) frame->terrain_height[c] = (float)hgt[c];
+  memcpy(frame->column_lat, lat, n2 * sizeof(double));
+  memcpy(frame->column_lon, lon, n2 * sizeof(double));
+  return SL_OK;
+}
+
 int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
 {
   memset(frame, 0, sizeof *frame);
@@ -428,8 +470,9 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
   frame->terrain_max = hmax;
   frame->model_top = top;
   frame->time_index = t;
+  rc = keep_columns(frame, &f, t, nx, ny, hgt, lat, lon, q, err);
 done:
-  if (rc) sl_volume_free(&frame->volume);
+  if (rc) sl_storm_frame_free(frame);
   nc_close(f.id);
   for (int pt = 0; pt < SL_PARTICLE_COUNT; ++pt) free(eta_native[pt]);
   free(p);
@@ -448,4 +491,15 @@ done:
   return rc;
 }
 
-void sl_storm_frame_free(sl_storm_frame *frame) { sl_volume_free(&frame->volume); }
+void sl_storm_frame_free(sl_storm_frame *frame)
+{
+  sl_volume_free(&frame->volume);
+  free(frame->terrain_height);
+  free(frame->column_lat);
+  free(frame->column_lon);
+  free(frame->surface_albedo);
+  free(frame->land_mask);
+  frame->surface_albedo = frame->land_mask = NULL;
+  frame->terrain_height = NULL;
+  frame->column_lat = frame->column_lon = NULL;
+}
