@@ -1,4 +1,5 @@
 #include "scene.h"
+#include "terrain_scene.h"
 
 #include <cjson/cJSON.h>
 
@@ -54,6 +55,7 @@ void declare_render_options(Options &o)
   o.option("sky", "R,G,B", "with --no-atmosphere: the constant sky radiance", "0.035,0.055,0.10");
   o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
   o.flag("float", "write 32-bit float EXR channels instead of half");
+  declare_map_options(o);  // the scene around the storm: terrain and map layers (terrain_scene.h)
 }
 
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error)
