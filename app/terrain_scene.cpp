@@ -164,7 +164,9 @@ struct TerrainScene::Impl {
   bool spectral = false;
   const sl_atmosphere *atm = nullptr;
   double sun[3] = {0, 0, 1};
-  double scale_km = 0, scale_at[3] = {0, 0, 0}, scale_dir[3] = {1, 0, 0};
+  double scale_km = 0, scale_at[3] = {0, 0, 0};
+  Polyline scale_line;
+  std::unique_ptr<ColumnMap> map;
   double lift = 50.0;
 };
 
@@ -243,7 +245,8 @@ bool TerrainScene::build(const sl_storm_frame &frame, const MapLayers &layers, c
   m.points.resize(3 * n);
   for (int j = 0; j < m.ny; ++j)
     for (int i = 0; i < m.nx; ++i) sl_heightfield_point(&m.hf, i, j, &m.points[3 * ((size_t)j * m.nx + i)]);
-  ColumnMap map(frame);
+  m.map.reset(new ColumnMap(frame));
+  const ColumnMap &map = *m.map;
   char note[256];
   summary_.clear();
 
@@ -358,27 +361,6 @@ bool TerrainScene::build(const sl_storm_frame &frame, const MapLayers &layers, c
     layer.lines.push_back(p);
     m.overlays.push_back(layer);
   }
-  if (layers.scale_bar) {
-    // A round length near a quarter of the domain's width, along x from the south-west corner.
-    const double width_km = (m.nx - 1) * v.spacing[0] / 1000.0;
-    const double mag = std::pow(10.0, std::floor(std::log10(width_km / 4.0)));
-    double len = mag;
-    for (double f : {1.0, 2.0, 5.0})
-      if (f * mag <= width_km / 4.0) len = f * mag;
-    m.scale_km = len;
-    const double x0 = v.origin[0] + 0.06 * (m.nx - 1) * v.spacing[0], y0 = v.origin[1] + 0.06 * (m.ny - 1) * v.spacing[1];
-    m.scale_at[0] = x0, m.scale_at[1] = y0, m.scale_at[2] = m.hf.zmax;
-    LineLayer layer{{}, {0.6, 0.6, 0.6}, 4.0f};
-    Polyline p;
-    const int pieces = 32;
-    for (int s = 0; s <= pieces; ++s) {
-      const double x = x0 + len * 1000.0 * s / pieces;
-      const double fi = (x - v.origin[0]) / v.spacing[0], fj = (y0 - v.origin[1]) / v.spacing[1];
-      p.xyz.insert(p.xyz.end(), {x, y0, map.height(fi, fj)});
-    }
-    layer.lines.push_back(p);
-    m.overlays.push_back(layer);
-  }
   return true;
 }
 
@@ -390,6 +372,38 @@ bool TerrainScene::prepare_view(const sl_camera &cam, std::string *error)
   for (int a = 0; a < 3; ++a) dist += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
   // Overlays float above the surface by a depth-buffer-safe margin that grows with distance.
   m.lift = std::max(20.0, 2e-3 * std::sqrt(dist));
+  if (m.layers.scale_bar) {
+    // Where the camera sees it: on the ground under the lower-left of the frame, a round length
+    // near a third of the ground the frame's lower edge spans, pointing east.
+    auto ground = [&](double fx, double fy, double p[3]) {
+      double d[3], t;
+      if (sl_camera_ray(&cam, (int)(fx * cam.width), (int)(fy * cam.height), d)) return false;
+      if (!sl_heightfield_ray(&m.hf, cam.position, d, INFINITY, &t)) {
+        if (!(d[2] < 0.0)) return false;
+        t = (m.hf.zmin - cam.position[2]) / d[2];  // beyond the domain: its lowest level
+      }
+      for (int a = 0; a < 3; ++a) p[a] = cam.position[a] + t * d[a];
+      return true;
+    };
+    double a[3], b[3];
+    if (!ground(0.12, 0.88, a) || !ground(0.88, 0.88, b)) {
+      a[0] = m.hf.origin[0], a[1] = m.hf.origin[1], a[2] = m.hf.zmin;
+      b[0] = a[0] + (m.nx - 1) * m.hf.spacing[0], b[1] = a[1];
+    }
+    const double span_km = std::hypot(b[0] - a[0], b[1] - a[1]) / 1000.0 / 3.0;
+    const double mag = std::pow(10.0, std::floor(std::log10(std::max(span_km, 1e-3))));
+    m.scale_km = mag;
+    for (double f : {2.0, 5.0})
+      if (f * mag <= span_km) m.scale_km = f * mag;
+    for (int k = 0; k < 3; ++k) m.scale_at[k] = a[k];
+    m.scale_line.xyz.clear();
+    for (int s = 0; s <= 32; ++s) {
+      const double x = a[0] + m.scale_km * 1000.0 * s / 32, y = a[1];
+      const double fi = (x - m.hf.origin[0]) / m.hf.spacing[0], fj = (y - m.hf.origin[1]) / m.hf.spacing[1];
+      const bool inside = fi >= 0 && fj >= 0 && fi <= m.nx - 1 && fj <= m.ny - 1;
+      m.scale_line.xyz.insert(m.scale_line.xyz.end(), {x, y, inside ? m.map->height(fi, fj) : a[2]});
+    }
+  }
   if (!m.layers.terrain) return true;
   m.seen.resize(3 * n);
   sl_error err{};
@@ -504,6 +518,24 @@ void TerrainScene::add_props(vtkRenderer *renderer) const
     renderer->AddActor(actor);
   }
   if (m.layers.scale_bar && m.scale_km > 0) {
+    vtkNew<vtkPoints> pts;
+    vtkNew<vtkCellArray> cells;
+    const vtkIdType count = (vtkIdType)(m.scale_line.xyz.size() / 3);
+    cells->InsertNextCell(count);
+    for (vtkIdType k = 0; k < count; ++k)
+      cells->InsertCellPoint(pts->InsertNextPoint(m.scale_line.xyz[3 * k], m.scale_line.xyz[3 * k + 1],
+                                                  m.scale_line.xyz[3 * k + 2] + m.lift));
+    vtkNew<vtkPolyData> poly;
+    poly->SetPoints(pts);
+    poly->SetLines(cells);
+    vtkNew<vtkOpenGLPolyDataMapper> mapper;
+    mapper->SetInputData(poly);
+    vtkNew<vtkActor> bar;
+    bar->SetMapper(mapper);
+    bar->GetProperty()->LightingOff();
+    bar->GetProperty()->SetColor(0.6, 0.6, 0.6);
+    bar->GetProperty()->SetLineWidth(4.0f);
+    renderer->AddActor(bar);
     vtkNew<vtkBillboardTextActor3D> label;
     char text[64];
     std::snprintf(text, sizeof text, "%g km", m.scale_km);
