@@ -390,11 +390,16 @@ bool TerrainScene::prepare_view(const sl_camera &cam, std::string *error)
       a[0] = m.hf.origin[0], a[1] = m.hf.origin[1], a[2] = m.hf.zmin;
       b[0] = a[0] + (m.nx - 1) * m.hf.spacing[0], b[1] = a[1];
     }
-    const double span_km = std::hypot(b[0] - a[0], b[1] - a[1]) / 1000.0 / 3.0;
+    const double x_east = m.hf.origin[0] + (m.nx - 1) * m.hf.spacing[0];
+    const double span_km = std::min(std::hypot(b[0] - a[0], b[1] - a[1]), x_east - m.hf.origin[0]) / 1000.0 / 3.0;
     const double mag = std::pow(10.0, std::floor(std::log10(std::max(span_km, 1e-3))));
     m.scale_km = mag;
     for (double f : {2.0, 5.0})
       if (f * mag <= span_km) m.scale_km = f * mag;
+    // Kept on the domain: inside its columns, and ending before its east edge.
+    a[0] = std::clamp(a[0], m.hf.origin[0], x_east - m.scale_km * 1000.0);
+    a[1] = std::clamp(a[1], m.hf.origin[1], m.hf.origin[1] + (m.ny - 1) * m.hf.spacing[1]);
+    a[2] = m.map->height((a[0] - m.hf.origin[0]) / m.hf.spacing[0], (a[1] - m.hf.origin[1]) / m.hf.spacing[1]);
     for (int k = 0; k < 3; ++k) m.scale_at[k] = a[k];
     m.scale_line.xyz.clear();
     for (int s = 0; s <= 32; ++s) {
