@@ -66,7 +66,7 @@ int main(int argc, char **argv)
   // The same request to the command-line tool.
   char region[160];
   std::snprintf(region, sizeof region, "-R%.6f/%.6f/%.6f/%.6f", lon0, lon1, lat0, lat1);
-  std::istringstream cli(run(std::string("gmt coast ") + region + " -Dl -W -M --GMT_HISTORY=false"));
+  std::istringstream cli(run("cd '" + work + "' && gmt coast " + region + " -Dl -W -M"));
   std::vector<sl::GeoPoint> cli_points;
   std::string line;
   while (std::getline(cli, line)) {
