@@ -21,6 +21,7 @@
 #include "composite_pass.h"
 #include "render_series.h"
 #include "scene.h"
+#include "terrain_scene.h"
 #include "vtk_png.h"
 #include <cjson/cJSON.h>
 #ifndef SL_WITHOUT_APSF
@@ -50,7 +51,8 @@ namespace {
 void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
 
 // Composites through VTK: background, VTK's props, the volume; reads the float frame back.
-bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out)
+bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
+                        const sl::TerrainScene *terrain)
 {
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
@@ -73,6 +75,7 @@ bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const 
   pass->SetDelegatePass(steps);
   pass->SetLayers(cam.width, cam.height, background.rgba, volume.rgba, volume.depth);
   renderer->SetPass(pass);
+  if (terrain) terrain->add_props(renderer);
   window->Render();
   if (!pass->Succeeded() || pass->Result().size() != (size_t)cam.width * cam.height * 4) return false;
   const std::vector<float> &px = pass->Result();
@@ -310,6 +313,22 @@ static int render_main(int argc, char **argv)
   sl_camera_frame(lo_box, hi_box, view_az, view_el, fov, (int)width, (int)height, &cam);
   if (o.has("camera-target") && !o.vec3("camera-target", cam.target)) return sl::fail(cmd, o.error(), 2);
   if (o.has("camera-position") && !o.vec3("camera-position", cam.position)) return sl::fail(cmd, o.error(), 2);
+  // The scene around the storm: terrain (stops the eye rays, shadowed by the storm) and map layers.
+  sl::MapLayers map_layers;
+  std::unique_ptr<sl::TerrainScene> terrain;
+  {
+    std::string why;
+    if (!sl::read_map_options(o, &map_layers, &why)) return sl::fail(cmd, why, 2);
+    if (map_layers.any()) {
+      terrain.reset(new sl::TerrainScene);
+      if (!terrain->build(frame, map_layers, scene, &why) || !terrain->prepare_view(cam, &why)) {
+        sl_renderer_destroy(r);
+        sl_storm_frame_free(&frame);
+        return sl::fail(cmd, path + ": " + why);
+      }
+      cam.opaque_distance = terrain->opaque_distance();
+    }
+  }
 
   sl_image volume{}, background{}, frame_img{};
   int rc = 0;
@@ -329,6 +348,7 @@ static int render_main(int argc, char **argv)
   t_render = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
   if (o.has("cpu-composite")) {
+    if (terrain) terrain->paint_background(cam, background.rgba);
     sl_image_over(&volume, &background, &frame_img);
   } else {
     std::string display_error;
@@ -336,7 +356,7 @@ static int render_main(int argc, char **argv)
       rc = sl::fail(cmd, display_error + " or pass --cpu-composite");
       goto done;
     }
-    if (!composite_with_vtk(cam, background, volume, &frame_img)) {
+    if (!composite_with_vtk(cam, background, volume, &frame_img, terrain.get())) {
       rc = sl::fail(cmd, "the VTK render window could not composite the frame (OpenGL float targets unavailable?)");
       goto done;
     }
@@ -425,6 +445,7 @@ static int render_main(int argc, char **argv)
   }
   t_write = sl::now_seconds() - t0;
   if (!quiet && !sun_note.empty()) std::printf("%s\n", sun_note.c_str());
+  if (!quiet && terrain && !terrain->summary().empty()) std::printf("%s\n", terrain->summary().c_str());
   if (!quiet && stats.night) std::printf("night: the sun is below the horizon; this model gives no sunlight and no sky\n");
   if (!quiet)
     std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "

@@ -1,5 +1,7 @@
 // stormlight synth: seeded synthetic storms written as WRF-style NetCDF.
+#include <cmath>
 #include <cstdio>
+#include <vector>
 #include <string>
 
 #include "cli.h"
@@ -19,6 +21,7 @@ int sl_cmd_synth(int argc, char **argv)
   o.option("nz", "N", "mass levels (default per kind)");
   o.option("dx", "M", "horizontal grid spacing in metres (default per kind)");
   o.option("times", "N", "number of times (10 minutes apart)", "1");
+  o.option("center", "LAT,LON", "the grid's centre, degrees north and east (default per kind)");
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
   if (o.positional().size() != 1) return sl::fail("synth", "give exactly one KIND (cumulonimbus, cirrus, stratocumulus)", 2);
@@ -38,6 +41,12 @@ int sl_cmd_synth(int argc, char **argv)
     (name[1] == 'x' ? so.nx : name[1] == 'y' ? so.ny : so.nz) = (int)v;
   }
   if (o.has("dx") && !o.number("dx", &so.dx)) return sl::fail("synth", o.error(), 2);
+  if (o.has("center")) {
+    std::vector<double> c;
+    if (!o.list("center", &c) || c.size() != 2 || !(std::fabs(c[0]) < 80 && std::fabs(c[1]) <= 180))
+      return sl::fail("synth", "--center needs LAT,LON with |LAT| < 80 and |LON| <= 180", 2);
+    so.center_lat = c[0], so.center_lon = c[1];
+  }
   sl_error err{};
   if (sl_synth_write(o.str("out").c_str(), &so, &err)) return sl::fail("synth", err.message);
   std::printf("wrote %s: %s, %dx%dx%d, dx %g m, %d time(s), seed %llu\n", o.str("out").c_str(),

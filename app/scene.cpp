@@ -1,4 +1,5 @@
 #include "scene.h"
+#include "terrain_scene.h"
 
 #include <cjson/cJSON.h>
 
@@ -57,6 +58,7 @@ void declare_render_options(Options &o)
   o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
   o.flag("float", "write 32-bit float EXR channels instead of half");
   declare_load_options(o);
+  declare_map_options(o);  // the scene around the storm: terrain and map layers (terrain_scene.h)
 }
 
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error)

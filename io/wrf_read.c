@@ -318,6 +318,45 @@ static int load_subset(const sl_nc *f, const sl_storm_info *info, const sl_load_
   return SL_OK;
 }
 
+/* The scene around the storm: terrain height, latitude/longitude and the optional surface
+ * fields per column, kept for the terrain surface and the map overlays (app/terrain_scene). */
+static int keep_optional_column_field(wrf_levels *w, const char *name, const size_t *l2, double *scratch,
+                                      float **out, sl_error *err)
+{
+  if (!sl_nc_has_var(w->f, name)) return SL_OK;
+  const char *const d2[] = {"south_north", "west_east"};
+  sl_nc_var v;
+  int rc = sl_nc_var_open(w->f, name, 2, d2, l2, &v, err);
+  if (!rc) rc = wrf_slab(w, &v, -1, scratch, err);
+  if (rc) return rc;
+  *out = malloc(w->n2 * sizeof(float));
+  if (!*out) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", w->f->path);
+  for (size_t c = 0; c < w->n2; ++c) (*out)[c] = (float)scratch[c];
+  return SL_OK;
+}
+
+static int keep_columns(sl_storm_frame *frame, wrf_levels *w, const size_t *l2, const sl_nc_var *hgt,
+                        const sl_nc_var *xlat, const sl_nc_var *xlong, double *scratch, sl_error *err)
+{
+  const size_t n2 = w->n2;
+  int rc;
+  if ((rc = keep_optional_column_field(w, "ALBEDO", l2, scratch, &frame->surface_albedo, err))) return rc;
+  if ((rc = keep_optional_column_field(w, "LANDMASK", l2, scratch, &frame->land_mask, err))) return rc;
+  if (!frame->land_mask) {
+    if ((rc = keep_optional_column_field(w, "XLAND", l2, scratch, &frame->land_mask, err))) return rc;
+    for (size_t c = 0; frame->land_mask && c < n2; ++c) frame->land_mask[c] = frame->land_mask[c] < 1.5f ? 1.0f : 0.0f;
+  }
+  frame->terrain_height = malloc(n2 * sizeof(float));
+  frame->column_lat = malloc(n2 * sizeof(double));
+  frame->column_lon = malloc(n2 * sizeof(double));
+  if (!frame->terrain_height || !frame->column_lat || !frame->column_lon)
+    return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", w->f->path);
+  if ((rc = wrf_slab(w, hgt, -1, scratch, err))) return rc;
+  for (size_t c = 0; c < n2; ++c) frame->terrain_height[c] = (float)scratch[c];
+  if ((rc = wrf_slab(w, xlat, -1, frame->column_lat, err))) return rc;
+  return wrf_slab(w, xlong, -1, frame->column_lon, err);
+}
+
 static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
                     int nspecies, sl_storm_frame *frame, sl_error *err)
 {
@@ -387,6 +426,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   frame->terrain_max = hmax;
   frame->model_top = top;
   frame->time_index = t;
+  rc = keep_columns(frame, &w, l2, &hgt, &xlat, &xlong, a, err);
 done:
   free(a);
   free(b);
@@ -427,7 +467,7 @@ static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *f
   if (!rc)
     rc = info->kind == SL_STORM_WRF ? wrf_load(f, info, opt, species, nspecies, frame, err)
                                     : sl_cf_load(f, info, opt, species, nspecies, frame, err);
-  if (rc) sl_volume_free(&frame->volume);
+  if (rc) sl_storm_frame_free(frame);
   free(info);
   return rc;
 }
@@ -453,5 +493,15 @@ int sl_storm_load_memory(const char *name, const void *data, size_t size, const 
   return rc;
 }
 
-void sl_storm_frame_free(sl_storm_frame *frame) { sl_volume_free(&frame->volume); }
-
+void sl_storm_frame_free(sl_storm_frame *frame)
+{
+  sl_volume_free(&frame->volume);
+  free(frame->terrain_height);
+  free(frame->column_lat);
+  free(frame->column_lon);
+  free(frame->surface_albedo);
+  free(frame->land_mask);
+  frame->surface_albedo = frame->land_mask = NULL;
+  frame->terrain_height = NULL;
+  frame->column_lat = frame->column_lon = NULL;
+}

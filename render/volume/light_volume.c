@@ -184,8 +184,10 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
     memset(a, 0, sizeof a);
     a[nwl] = 1.0f;
     double t0 = 0.0, t1 = 0.0;
-    const int hit = sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0;
+    int hit = sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0;
     if (t0 < 0.0) t0 = 0.0;
+    if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
+    if (t1 <= t0) hit = 0; /* an opaque surface in front of the volume */
     if (hit) {
       int angle_index = 0;
       double angle_weight = 0.0;

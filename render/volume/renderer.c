@@ -554,6 +554,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       /* A ray almost parallel to the slices crosses none of them within the box. */
       if (fabs(rq[5]) < 1e-9 || !sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
       if (t0 < 0.0) t0 = 0.0;
+      if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
+      if (t1 <= t0) continue; /* an opaque surface in front of the volume */
       rq[3] = t0, rq[4] = t1;
       const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
       pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;

@@ -65,6 +65,10 @@ typedef struct sl_camera {
   double position[3], target[3], up[3]; /* world ENU metres; up need not be orthogonal */
   double fov_deg;                       /* vertical field of view, (0, 170) */
   int width, height;
+  /* Opaque surfaces (terrain): per pixel, rows from the top, the distance along the pixel's unit
+   * ray (sl_camera_ray) to the first opaque surface, +inf where none; eye rays stop there. NULL:
+   * nothing opaque. Not owned. */
+  const float *opaque_distance;
 } sl_camera;
 
 /* Which way the slices go for a camera: exposed for tests and reports. */

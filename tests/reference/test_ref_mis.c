@@ -16,7 +16,7 @@ static void render(const sl_ref_medium *m, int next_event_only, double *total, d
   sc.sun_direction[0] = 0.3, sc.sun_direction[1] = 0.4, sc.sun_direction[2] = 0.866;
   sc.next_event_only = next_event_only;
   sc.seed = 21 + next_event_only;
-  sl_camera cam = {{0.5, -3.0, 1.5}, {0.5, 0.5, 0.5}, {0, 0, 1}, 30.0, 6, 4};
+  sl_camera cam = {{0.5, -3.0, 1.5}, {0.5, 0.5, 0.5}, {0, 0, 1}, 30.0, 6, 4, NULL};
   sl_ref_accum acc;
   CHECK(sl_ref_accum_init(&acc, 6, 4, 1, &err) == SL_OK);
   sl_ref_budget b = {12000, 0.0, NULL, NULL};

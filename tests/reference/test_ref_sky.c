@@ -46,7 +46,7 @@ int main(int argc, char **argv)
   sc.sun_direction[0] = 0.0, sc.sun_direction[1] = cos(sun_elev), sc.sun_direction[2] = sin(sun_elev);
   sc.seed = 3;
   /* Three pixels from 6 to 26 degrees of elevation, looking east (90 degrees from the sun). */
-  sl_camera cam = {{0.0, 0.0, 1.0}, {cos(0.28), 0.0, 1.0 + sin(0.28)}, {0.0, 0.0, 1.0}, 20.0, 1, 3};
+  sl_camera cam = {{0.0, 0.0, 1.0}, {cos(0.28), 0.0, 1.0 + sin(0.28)}, {0.0, 0.0, 1.0}, 20.0, 1, 3, NULL};
   sl_ref_accum acc;
   CHECK(sl_ref_accum_init(&acc, 1, 3, 3, &err) == SL_OK);
   sl_ref_budget b = {20000 * scale, 0.0, NULL, NULL};

@@ -35,7 +35,7 @@ int main(void)
   sc.skylight = 1;
   sc.seed = 5;
   const int W = 6, H = 5;
-  sl_camera cam = {{0.5, -2.5, 1.2}, {0.5, 0.5, 0.5}, {0, 0, 1}, 30.0, W, H};
+  sl_camera cam = {{0.5, -2.5, 1.2}, {0.5, 0.5, 0.5}, {0, 0, 1}, 30.0, W, H, NULL};
   sl_ref_accum acc;
   CHECK(sl_ref_accum_init(&acc, W, H, 1, &err) == SL_OK);
   sl_ref_budget b = {4000, 0.0, NULL, NULL};

@@ -124,7 +124,7 @@ static void camera_against_table12(void)
       sc.sun_direction[0] = sqrt(1.0 - mu0 * mu0), sc.sun_direction[1] = 0.0, sc.sun_direction[2] = mu0;
       sc.sun_irradiance[0] = 1.0; /* normal to the beam: the horizontal irradiance is mu0 */
       sc.seed = 100 + 10 * side + c;
-      sl_camera cam = {{0.0, 0.0, side == 0 ? 2.0 + 1e-6 : -1e-6}, {0}, {0.0, 0.0, 1.0}, 0.01, 1, 1};
+      sl_camera cam = {{0.0, 0.0, side == 0 ? 2.0 + 1e-6 : -1e-6}, {0}, {0.0, 0.0, 1.0}, 0.01, 1, 1, NULL};
       /* Looking down (reflection) or up (transmission) at mu = 0.5, across the sun's plane. */
       const double dir[3] = {0.0, sqrt(0.75), side == 0 ? -0.5 : 0.5};
       for (int a = 0; a < 3; ++a) cam.target[a] = cam.position[a] + dir[a];

@@ -21,7 +21,7 @@ static void run(const sl_ref_medium *m, int threads, unsigned long long seed, sl
   sc.medium = m;
   sc.sun_direction[0] = 0.5, sc.sun_direction[2] = 0.8;
   sc.sky_radiance[0] = 0.1, sc.skylight = 1, sc.seed = seed;
-  sl_camera cam = {{0.5, -3.0, 2.0}, {0.5, 0.5, 0.5}, {0, 0, 1}, 40.0, 8, 6};
+  sl_camera cam = {{0.5, -3.0, 2.0}, {0.5, 0.5, 0.5}, {0, 0, 1}, 40.0, 8, 6, NULL};
   sl_ref_accum acc;
   CHECK(sl_ref_accum_init(&acc, 8, 6, 1, &err) == SL_OK);
   sl_ref_budget b = {16, 0.0, NULL, NULL};

@@ -1,0 +1,28 @@
+// Coastlines, national borders and a land mask from GMT's GSHHG data (Debian's gmt-gshhg-low),
+// through GMT's C API (GMT_Create_Session, GMT_Call_Module "coast" / "grdlandmask" into virtual
+// files): no parser of GMT's own formats here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace sl {
+
+struct GeoPoint {
+  double lon, lat;  // degrees east, north
+};
+using GeoLine = std::vector<GeoPoint>;
+
+enum class CoastLayer { Shorelines, NationalBorders };
+
+// The polylines of a layer around the region [lon0, lon1] x [lat0, lat1] (GMT returns whole bins:
+// the caller clips). resolution: GSHHG's c (crude) or l (low), the two Debian's gmt-gshhg-low has.
+bool gmt_coast_lines(CoastLayer layer, double lon0, double lon1, double lat0, double lat1, char resolution,
+                     std::vector<GeoLine> *lines, std::string *error);
+
+// 1 on land, 0 on water (oceans, and lakes as water) at each point, from GSHHG shorelines via
+// GMT's grdlandmask on a grid of `step_deg` over the points' extent (nearest node).
+bool gmt_land_mask(const double *lat, const double *lon, size_t n, double step_deg, char resolution,
+                   std::vector<float> *mask, std::string *error);
+
+}  // namespace sl
