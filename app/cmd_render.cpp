@@ -199,7 +199,9 @@ static int render_main(int argc, char **argv)
   const bool quiet = o.has("quiet") || json;
 
   double t0 = sl::now_seconds();
-  sl_load_options lo{(int)time_index, dz};
+  sl_load_options lo{};
+  lo.time_index = (int)time_index;
+  lo.dz = dz;
   sl_storm_frame frame;
   if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail(cmd, err.message);
   const double t_load = sl::now_seconds() - t0;
@@ -278,7 +280,8 @@ static int render_main(int argc, char **argv)
   scene.lighting = lighting;
   scene.xi = xi;
   scene.light_volume = o.has("light-volume") ? 1 : 0;
-  sl_sun_direction(sun_el, sun_az, scene.sun_direction);
+  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
+  sl_sun_direction(sun_el, sl_georef_grid_azimuth(&frame.georef, sun_az), scene.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) {
     scene.sun_irradiance[c] = 1.0;
     scene.sky_radiance[c] = sky[c];

@@ -192,6 +192,8 @@ int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)
   info->truelat1 = attr_double(&f, NC_GLOBAL, "TRUELAT1", NAN);
   info->truelat2 = attr_double(&f, NC_GLOBAL, "TRUELAT2", NAN);
   info->stand_lon = attr_double(&f, NC_GLOBAL, "STAND_LON", NAN);
+  info->pole_lat = attr_double(&f, NC_GLOBAL, "POLE_LAT", 90.0);
+  info->pole_lon = attr_double(&f, NC_GLOBAL, "POLE_LON", 0.0);
   info->mp_physics = (int)attr_double(&f, NC_GLOBAL, "MP_PHYSICS", -1);
 
   /* Times(Time, <string dim>): the string dimension's name varies between writers. */
@@ -291,6 +293,7 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
   double *lat = malloc(n2 * sizeof(double)), *lon = malloc(n2 * sizeof(double));
   double *rho = malloc(n3 * sizeof(double)), *temp = malloc(n3 * sizeof(double));
   double *q = malloc(n3 * sizeof(double));
+  double *drop = NULL; /* per column, m: the sphere's depth below the world's tangent plane */
   double *eta_native[SL_PARTICLE_COUNT] = {0};
   if (!p || !pb || !theta || !qv || !ph || !phb || !hgt || !lat || !lon || !rho || !temp || !q) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for a %dx%dx%d grid", path, nx, ny, nz);
@@ -391,8 +394,17 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
     goto done;
   }
 
-  /* The uniform grid: horizontal samples at the model's mass points (projection-plane spacing,
-   * centred on the grid), vertical from the lowest ground to the model top. */
+  /* Georeferencing (io/georef.c): this time's XLAT/XLONG place the grid, so a moving nest sits
+   * where it was; the projection from the attributes is checked against them. */
+  if ((rc = sl_georef_build(&frame->georef, info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
+                            info->pole_lat, info->pole_lon, nx, ny, info->dx, info->dy, lat, lon, path, err)))
+    goto done;
+  if (opt && opt->has_origin) sl_georef_place(&frame->georef, opt->origin_lat, opt->origin_lon);
+  const sl_georef *geo = &frame->georef;
+
+  /* The uniform grid: horizontal samples at the model's mass points, spaced by the ground distance
+   * between them at the centre (DX over the map factor) and centred on the grid centre's ENU
+   * position; vertical from the lowest ground (less the largest curvature drop) to the model top. */
   double ground = INFINITY, top = -INFINITY, hmax = -INFINITY;
   for (size_t c = 0; c < n2; ++c) {
     if (hgt[c] < ground) ground = hgt[c];
@@ -400,14 +412,30 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
     if (ph[(size_t)nz * n2 + c] > top) top = ph[(size_t)nz * n2 + c];
   }
   double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * nz);
-  int nzo = (int)ceil((top - ground) / dz);
+  const double spacing_h[2] = {geo->ground_dx, geo->ground_dy};
+  const double corner_xy[2] = {geo->center_enu[0] - 0.5 * (nx - 1) * spacing_h[0],
+                               geo->center_enu[1] - 0.5 * (ny - 1) * spacing_h[1]};
+  double max_drop = 0.0;
+  if (opt && opt->earth_curvature) {
+    if (!(drop = malloc(n2 * sizeof(double)))) {
+      rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+      goto done;
+    }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double d = sl_curvature_drop(hypot(corner_xy[0] + i * spacing_h[0], corner_xy[1] + j * spacing_h[1]));
+        drop[(size_t)j * nx + i] = d;
+        if (d > max_drop) max_drop = d;
+      }
+  }
+  int nzo = (int)ceil((top - ground + max_drop) / dz);
   if (nzo < 1) nzo = 1;
   if (nzo > 4096) {
     rc = sl_fail(err, SL_ERR_ARG, "%s: vertical spacing %g m gives %d levels, more than 4096", path, dz, nzo);
     goto done;
   }
-  const double origin[3] = {-0.5 * (nx - 1) * info->dx, -0.5 * (ny - 1) * info->dy, ground + 0.5 * dz};
-  const double spacing[3] = {info->dx, info->dy, dz};
+  const double origin[3] = {corner_xy[0], corner_xy[1], ground - max_drop + 0.5 * dz};
+  const double spacing[3] = {spacing_h[0], spacing_h[1], dz};
   if ((rc = sl_volume_init(&frame->volume, nx, ny, nzo, origin, spacing, err))) goto done;
   for (int pt = 0; pt < SL_PARTICLE_COUNT; ++pt) {
     if (!eta_native[pt]) continue;
@@ -418,12 +446,12 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
         const size_t c = (size_t)j * nx + i;
         for (int k = 0; k < nzo; ++k)
           out[sl_volume_index(&frame->volume, i, j, k)] =
-              (float)column_mean(eta_native[pt] + c, ph + c, nz, n2, ground + k * dz, dz);
+              (float)column_mean(eta_native[pt] + c, ph + c, nz, n2,
+                                 ground - max_drop + (drop ? drop[c] : 0.0) + k * dz, dz);
       }
   }
-  const size_t cc = (size_t)(ny / 2) * nx + nx / 2;
-  frame->center_lat = lat[cc];
-  frame->center_lon = lon[cc];
+  frame->center_lat = geo->center_lat;
+  frame->center_lon = geo->center_lon;
   frame->terrain_min = ground;
   frame->terrain_max = hmax;
   frame->model_top = top;
@@ -444,6 +472,7 @@ done:
   free(rho);
   free(temp);
   free(q);
+  free(drop);
   free(info);
   return rc;
 }

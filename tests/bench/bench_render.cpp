@@ -117,7 +117,7 @@ int main(int argc, char **argv)
   sl_error err{};
   double t0 = sl::now_seconds();
   sl_storm_frame frame;
-  sl_load_options lo{0, 0.0};
+  sl_load_options lo{};
   if (sl_storm_load(storm.c_str(), &lo, &frame, &err)) {
     std::fprintf(stderr, "bench_render: %s\n", err.message);
     return 1;

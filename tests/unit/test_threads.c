@@ -15,7 +15,7 @@ int main(void)
   snprintf(path, sizeof path, "%s/cumulonimbus.nc", dir ? dir : "datasets");
   sl_error err = {0};
   sl_storm_frame frame;
-  sl_load_options lo = {0, 0.0};
+  sl_load_options lo = {.time_index = 0};
   if (!CHECK(sl_storm_load(path, &lo, &frame, &err) == SL_OK)) {
     fprintf(stderr, "%s\n", err.message);
     return sl_test_finish("test_threads");

@@ -79,7 +79,7 @@ static void check_paths(const char *path, int t, const char *var, const sl_parti
   int nx, ny;
   double *w = model_paths(path, var, t, &nx, &ny);
   sl_storm_frame f;
-  sl_load_options lo = {t, 0.0};
+  sl_load_options lo = {.time_index = t};
   sl_error err = {0};
   if (!CHECK(sl_storm_load(path, &lo, &f, &err) == SL_OK)) {
     fprintf(stderr, "%s\n", err.message);
@@ -124,7 +124,7 @@ int main(void)
     for (size_t c = 0; c < (size_t)nx * ny; ++c) cold_cloud += wc[c], all_cloud += wa[c], cold_rain += rc[c], all_rain += ra[c];
     free(wc), free(wa), free(rc), free(ra);
     sl_storm_frame f;
-    sl_load_options lo = {t, 0.0};
+    sl_load_options lo = {.time_index = t};
     sl_error err = {0};
     if (sl_storm_load(katrina, &lo, &f, &err)) continue;
     for (int j = 0; j < f.volume.ny; ++j)
