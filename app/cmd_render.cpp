@@ -202,6 +202,14 @@ static int render_main(int argc, char **argv)
   sl_load_options lo{};
   lo.time_index = (int)time_index;
   lo.dz = dz;
+  if (o.str("curvature") != "flat" && o.str("curvature") != "drop") return sl::fail(cmd, "--curvature must be flat or drop", 2);
+  lo.earth_curvature = o.str("curvature") == "drop";
+  if (o.has("origin")) {
+    std::vector<double> origin;
+    if (!o.list("origin", &origin) || origin.size() != 2 || !(std::fabs(origin[0]) <= 90.0))
+      return sl::fail(cmd, "--origin needs LAT,LON in degrees", 2);
+    lo.has_origin = 1, lo.origin_lat = origin[0], lo.origin_lon = origin[1];
+  }
   sl_storm_frame frame;
   if (sl_storm_load(path.c_str(), &lo, &frame, &err)) return sl::fail(cmd, err.message);
   const double t_load = sl::now_seconds() - t0;
