@@ -107,6 +107,7 @@ extern "C" int sl_projection_init(sl_projection *p, int map_proj, double truelat
   p->pole_lon = std::isfinite(pole_lon) ? pole_lon : 0.0;
   p->scale = 1.0;
   auto fail = [&](const char *text) {
+    p->map_proj = 0;  // forward/reverse then give NAN rather than use invalid parameters
     if (why && why_size) std::snprintf(why, why_size, "%s", text);
     return 1;
   };

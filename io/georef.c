@@ -55,21 +55,33 @@ static void local_frame(const sl_georef *g, const double *xlat, const double *xl
   sl_sphere_inverse(la[2], lo[2], la[3], lo[3], gdy, north);
 }
 
+static void place_from_xlat(sl_georef *g, const double *xlat, const double *xlon);
+
 int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2, double stand_lon,
                     double pole_lat, double pole_lon, int nx, int ny, double dx, double dy, const double *xlat,
                     const double *xlon, const char *path, sl_error *err)
 {
   memset(g, 0, sizeof *g);
   char why[200] = "";
-  if (sl_projection_init(&g->projection, map_proj, truelat1, truelat2, stand_lon, pole_lat, pole_lon, why,
-                         sizeof why))
-    return sl_fail(err, SL_ERR_FORMAT, "%s: MAP_PROJ %d: %s", path, map_proj, why);
+  const int known = map_proj == SL_MAP_LAMBERT || map_proj == SL_MAP_POLAR || map_proj == SL_MAP_MERCATOR ||
+                    map_proj == SL_MAP_LATLON;
+  const int usable = !sl_projection_init(&g->projection, map_proj, truelat1, truelat2, stand_lon, pole_lat,
+                                         pole_lon, why, sizeof why);
+  if (!known) return sl_fail(err, SL_ERR_FORMAT, "%s: MAP_PROJ %d: %s", path, map_proj, why);
   if (nx < 2 || ny < 2) return sl_fail(err, SL_ERR_FORMAT, "%s: a %dx%d grid is too small to place", path, nx, ny);
   g->nx = nx, g->ny = ny, g->dx = dx, g->dy = dy;
   const size_t n2 = (size_t)nx * ny;
   for (size_t c = 0; c < n2; ++c)
     if (!(fabs(xlat[c]) <= 90.0) || !(fabs(xlon[c]) <= 540.0))
       return sl_fail(err, SL_ERR_DATA, "%s: XLAT/XLONG out of range (%g, %g)", path, xlat[c], xlon[c]);
+  if (!usable) {
+    /* A known projection whose attributes are missing or invalid: XLAT/XLONG still place it. */
+    g->max_error_deg = g->max_error_m = NAN;
+    g->from_xlat = 1;
+    snprintf(g->note, sizeof g->note, "%s: MAP_PROJ %d: %s; placing the grid by XLAT/XLONG", path, map_proj, why);
+    place_from_xlat(g, xlat, xlon);
+    return SL_OK;
+  }
 
   /* The grid is uniform on the plane: plane(i, j) = (x0 + i dx, y0 + j dy). The offset is the
    * mean of plane - (i dx, j dy) over the sampled points (least squares for a pure shift), so a
@@ -111,6 +123,15 @@ int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2
              "the grid by XLAT/XLONG",
              path, map_proj, g->max_error_m, g->max_error_m / cell, g->max_error_deg);
 
+  place_from_xlat(g, xlat, xlon);
+  return SL_OK;
+}
+
+/* Centre, corners, spacing, grid north and map factors, by the projection or by XLAT/XLONG. */
+static void place_from_xlat(sl_georef *g, const double *xlat, const double *xlon)
+{
+  const int nx = g->nx, ny = g->ny;
+  const double dx = g->dx, dy = g->dy;
   const double ic = 0.5 * (nx - 1), jc = 0.5 * (ny - 1);
   const double corner[4][2] = {{0, 0}, {nx - 1, 0}, {nx - 1, ny - 1}, {0, ny - 1}};
   if (g->from_xlat) {
@@ -139,7 +160,6 @@ int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2
       }
     }
   sl_georef_place(g, NAN, NAN);
-  return SL_OK;
 }
 
 void sl_georef_place(sl_georef *g, double origin_lat, double origin_lon)

@@ -39,7 +39,9 @@ typedef struct sl_georef {
 } sl_georef;
 
 /* Builds the projection from WRF's attributes and fits the grid to xlat/xlon (ny x nx, degrees).
- * Fails (naming path) for an unsupported projection or a grid XLAT/XLONG cannot describe. */
+ * Fails (naming path) for an unsupported MAP_PROJ or XLAT/XLONG out of range. A supported
+ * MAP_PROJ whose parameters are missing or invalid is placed by XLAT/XLONG with a note (and
+ * max_error_deg/_m NAN; sl_georef_grid_latlon is then not available and gives NAN). */
 int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2, double stand_lon,
                     double pole_lat, double pole_lon, int nx, int ny, double dx, double dy, const double *xlat,
                     const double *xlon, const char *path, sl_error *err);

@@ -275,8 +275,25 @@ static void check_curvature(void)
   CHECK_CLOSE(sl_curvature_drop(500e3), 19654.0, 0.0, 1.0);
 }
 
+/* An unsupported MAP_PROJ is an error naming the file; a supported one without its parameters
+ * is placed by XLAT/XLONG with a note. */
+static void check_attributes(void)
+{
+  const double la[4] = {35, 35, 35.01, 35.01}, lo[4] = {-97, -96.99, -97, -96.99};
+  sl_georef g;
+  sl_error err = {0};
+  CHECK(sl_georef_build(&g, 4, 30, 60, -97, 90, 0, 2, 2, 1000, 1000, la, lo, "gauss.nc", &err) == SL_ERR_FORMAT);
+  CHECK(strstr(err.message, "gauss.nc") && strstr(err.message, "MAP_PROJ 4"));
+  CHECK(sl_georef_build(&g, 1, NAN, NAN, NAN, 90, 0, 2, 2, 1000, 1000, la, lo, "bare.nc", &err) == SL_OK);
+  CHECK(g.from_xlat && strstr(g.note, "bare.nc") && isnan(g.max_error_deg));
+  CHECK_CLOSE(g.center_lat, 35.005, 0.0, 1e-9);
+  CHECK_CLOSE(g.center_lon, -96.995, 0.0, 1e-9);
+  CHECK_CLOSE(g.ground_dx, haversine(35.005, -97, 35.005, -96.99), 1e-6, 0.0);
+}
+
 int main(void)
 {
+  check_attributes();
   for (size_t c = 0; c < sizeof CASES / sizeof CASES[0]; ++c) check_case(&CASES[c]);
   const char *shared = getenv("SL_SHARED_DIR");
   char katrina[4096], tibet[4096];
