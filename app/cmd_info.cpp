@@ -105,6 +105,33 @@ int sl_cmd_info(int argc, char **argv)
     cJSON_AddNumberToObject(proj, "truelat1", info->truelat1);
     cJSON_AddNumberToObject(proj, "truelat2", info->truelat2);
     cJSON_AddNumberToObject(proj, "stand_lon", info->stand_lon);
+    const sl_georef &g = frame.georef;
+    cJSON_AddNumberToObject(proj, "pole_lat", info->pole_lat);
+    cJSON_AddNumberToObject(proj, "pole_lon", info->pole_lon);
+    cJSON_AddBoolToObject(proj, "rotated_pole", g.projection.rotated);
+    cJSON_AddNumberToObject(proj, "grid_north_deg", g.grid_north_deg);
+    cJSON_AddNumberToObject(proj, "map_factor_min", g.map_factor_min);
+    cJSON_AddNumberToObject(proj, "map_factor_max", g.map_factor_max);
+    cJSON_AddNumberToObject(proj, "xlat_xlong_max_disagreement_deg", g.max_error_deg);
+    cJSON_AddNumberToObject(proj, "xlat_xlong_max_disagreement_m", g.max_error_m);
+    cJSON_AddStringToObject(proj, "placement_from", g.from_xlat ? "XLAT/XLONG" : "projection");
+    cJSON *corners = cJSON_AddObjectToObject(root, "corners");
+    const char *const corner_names[4] = {"sw", "se", "ne", "nw"};
+    for (int k = 0; k < 4; ++k) {
+      cJSON *c = cJSON_AddObjectToObject(corners, corner_names[k]);
+      cJSON_AddNumberToObject(c, "lat", g.corner_lat[k]);
+      cJSON_AddNumberToObject(c, "lon", g.corner_lon[k]);
+    }
+    cJSON *enu = cJSON_AddObjectToObject(root, "enu_origin");
+    cJSON_AddNumberToObject(enu, "lat", g.origin_lat);
+    cJSON_AddNumberToObject(enu, "lon", g.origin_lon);
+    cJSON *vol = cJSON_AddObjectToObject(root, "volume_m");
+    cJSON_AddNumberToObject(vol, "x0", v.origin[0]);
+    cJSON_AddNumberToObject(vol, "y0", v.origin[1]);
+    cJSON_AddNumberToObject(vol, "z0", v.origin[2]);
+    cJSON_AddNumberToObject(vol, "dx", v.spacing[0]);
+    cJSON_AddNumberToObject(vol, "dy", v.spacing[1]);
+    cJSON_AddNumberToObject(vol, "dz", v.spacing[2]);
     cJSON_AddNumberToObject(root, "mp_physics", info->mp_physics);
     cJSON_AddStringToObject(root, "format", storm_kind_name(info->kind));
     cJSON_AddStringToObject(root, "netcdf_format", netcdf_format_name(info->format));
@@ -156,6 +183,15 @@ int sl_cmd_info(int argc, char **argv)
     std::printf("physics     %s (MP_PHYSICS %d)\n", info->scheme, info->mp_physics);
     std::printf("memory      a load needs about %.1f MB (available %.1f GB)\n", frame.memory_estimate / 1e6,
                 sl_machine_memory() / 1e9);
+    const sl_georef &g = frame.georef;
+    std::printf("placement   corners SW %.4f %.4f, SE %.4f %.4f, NE %.4f %.4f, NW %.4f %.4f (lat lon)\n",
+                g.corner_lat[0], g.corner_lon[0], g.corner_lat[1], g.corner_lon[1], g.corner_lat[2],
+                g.corner_lon[2], g.corner_lat[3], g.corner_lon[3]);
+    std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f, XLAT/XLONG agree with "
+                "the projection to %.2g deg (%.2g m): placed by %s\n",
+                g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
+                g.from_xlat ? "XLAT/XLONG" : "the projection");
+    if (g.note[0]) std::printf("note        %s\n", g.note);
     std::printf("times       %d:", info->ntimes);
     for (int i = 0; i < info->ntimes && i < 8; ++i) std::printf(" %s", info->has_times ? info->times[i] : "(index only)");
     std::printf("%s\n", info->ntimes > 8 ? " ..." : "");

@@ -252,7 +252,8 @@ void parse_storm(const cJSON *root, const std::string &path, Scene *s, sl_error 
   const std::string file = resolve(path, text(root, "storm", ""));
   if (text(root, "storm", "").empty()) throw SceneError{"missing \"storm\": a WRF file"};
   sl_load_options lo{};
-  lo.time_index = (int)number(root, "time", 0), lo.dz = number(root, "dz_m", 0);
+  lo.time_index = (int)number(root, "time", 0);
+  lo.dz = number(root, "dz_m", 0);
   if (sl_storm_load(file.c_str(), &lo, &s->frame, err)) throw SceneError{err->message};
   s->have_frame = true;
   const std::string wl = text(root, "wavelengths", "rgb");
@@ -324,7 +325,8 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
       !o.number("view-elevation", &view_el) || !o.number("fov", &fov))
     throw SceneError{o.error()};
   sl_load_options load{};
-  load.time_index = (int)time_index, load.dz = dz;
+  load.time_index = (int)time_index;
+  load.dz = dz;
   if (sl_storm_load(file.c_str(), &load, &s->frame, err)) throw SceneError{err->message};
   s->have_frame = true;
   // The sun as render places it: given angles, --date, or the file's own time over the grid's centre.
@@ -349,7 +351,8 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
       throw SceneError{err->message};
     sun_el = pos.elevation_deg, sun_az = pos.azimuth_deg;
   }
-  s->sun_zenith = 90.0 - sun_el, s->sun_azimuth = sun_az;
+  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
+  s->sun_zenith = 90.0 - sun_el, s->sun_azimuth = sl_georef_grid_azimuth(&s->frame.georef, sun_az);
   const std::string wl = o.str("wavelengths");
   if (wl != "rgb" && wl != "spectral") throw SceneError{"wavelengths must be rgb or spectral"};
   sl_optics_request req;

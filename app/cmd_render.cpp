@@ -213,6 +213,14 @@ static int render_main(int argc, char **argv)
   std::string load_error;
   if (!sl::parse_load_options(o, &load, &load_error)) return sl::fail(cmd, load_error, 2);
   load.load.time_index = (int)time_index, load.load.dz = dz;
+  if (o.str("curvature") != "flat" && o.str("curvature") != "drop") return sl::fail(cmd, "--curvature must be flat or drop", 2);
+  load.load.earth_curvature = o.str("curvature") == "drop";
+  if (o.has("origin")) {
+    std::vector<double> origin;
+    if (!o.list("origin", &origin) || origin.size() != 2 || !(std::fabs(origin[0]) <= 90.0))
+      return sl::fail(cmd, "--origin needs LAT,LON in degrees", 2);
+    load.load.has_origin = 1, load.load.origin_lat = origin[0], load.load.origin_lon = origin[1];
+  }
   sl_storm_frame frame;
   if (sl_storm_load(path.c_str(), &load.load, &frame, &err)) return sl::fail(cmd, err.message);
   const double t_load = sl::now_seconds() - t0;
@@ -291,7 +299,8 @@ static int render_main(int argc, char **argv)
   scene.lighting = lighting;
   scene.xi = xi;
   scene.light_volume = o.has("light-volume") ? 1 : 0;
-  sl_sun_direction(sun_el, sun_az, scene.sun_direction);
+  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
+  sl_sun_direction(sun_el, sl_georef_grid_azimuth(&frame.georef, sun_az), scene.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) {
     scene.sun_irradiance[c] = 1.0;
     scene.sky_radiance[c] = sky[c];

@@ -33,6 +33,9 @@ void declare_render_options(Options &o)
   o.option("sun-elevation", "DEG", "sun elevation above the horizon (with --sun-azimuth)");
   o.option("date", "ISO8601", "UTC date-time that places the sun over the grid's centre (default: the file's time)");
   o.option("earth", "flat|round", "air mass of the sunlight: the paper's flat earth or a spherical one", "round");
+  o.option("curvature", "flat|drop", "storm columns on the tangent plane (flat) or sunk by the sphere's depth below it\n"
+           "(drop: r^2/2R, 19.6 km at 500 km; docs/GEOREFERENCING.md)", "flat");
+  o.option("origin", "LAT,LON", "tangent point of the world frame (default: the grid's centre at this time)");
   o.option("lighting", "MODEL", "multiple (Riley eqs. 16-26 with eq. 24), eq25 (the paper's eq. 25), low-albedo (Fig. 13)",
            "multiple");
   o.option("xi", "XI", "eq. 26's back-scattering term added to Ams, 1/sr: light that higher orders return and the\n"

@@ -28,8 +28,8 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
 }
 
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
-                    int nspecies, double ground, double top, double dz, double dx, double dy, sl_storm_frame *frame,
-                    sl_error *err)
+                    int nspecies, double ground, double top, double dz, const double spacing_h[2],
+                    const double corner[2], const double *drop, sl_storm_frame *frame, sl_error *err)
 {
   const int nx = s->nx, ny = s->ny, nz = s->nz;
   const size_t n2 = (size_t)nx * ny, n3 = n2 * nz;
@@ -59,7 +59,9 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       goto done;
     }
   if ((rc = r->air(r->ctx, rho_dry, rho_moist, frozen, err))) goto done;
-  const double origin[3] = {-0.5 * (nx - 1) * dx, -0.5 * (ny - 1) * dy, ground + 0.5 * dz};
+  const double dx = spacing_h[0], dy = spacing_h[1];
+  const double origin[3] = {corner ? corner[0] : -0.5 * (nx - 1) * dx, corner ? corner[1] : -0.5 * (ny - 1) * dy,
+                            ground + 0.5 * dz};
   const double spacing[3] = {dx, dy, dz};
   if ((rc = sl_volume_init(&frame->volume, nx, ny, nzo, origin, spacing, err))) goto done;
   for (int i = 0; i < nspecies; ++i)
@@ -93,7 +95,9 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       const int target = frozen[i3] ? sp->cold : sp->warm;
       const double eta =
           sl_species_eta(sp, target, rho_air[i3], v, rho_dry[i3], sp->number_variable[0] ? qn[i3] : -1.0);
-      deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3], z[i3 + n2], eta);
+      /* A column that sinks by the earth's curvature deposits lower in the grid. */
+      const double sink = drop ? drop[c] : 0.0;
+      deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
     }
     st->q_mean = sums[i] / (double)n3;
     frame->species[i] = *sp;

@@ -4,6 +4,7 @@
 #ifndef SL_STORM_H
 #define SL_STORM_H
 
+#include "sl_georef.h"
 #include "sl_particles.h"
 #include "sl_status.h"
 #include "sl_volume.h"
@@ -47,6 +48,7 @@ typedef struct sl_storm_info {
   double dx, dy;              /* grid spacing on the projection plane, m */
   int map_proj;               /* WRF MAP_PROJ: 1 Lambert, 2 polar stereographic, 3 Mercator, 6 lat-lon; 0 unknown */
   double truelat1, truelat2, stand_lon; /* degrees, NAN when absent */
+  double pole_lat, pole_lon;  /* degrees, WRF's rotated-pole attributes (MAP_PROJ 6); 90, 0 when absent */
   int mp_physics;             /* WRF MP_PHYSICS, -1 when absent */
   char scheme[96];            /* microphysics scheme in words */
   int nspecies;               /* hydrometeor variables found and how they map (before --field) */
@@ -60,6 +62,7 @@ typedef struct sl_storm_frame {
   sl_volume volume;           /* eta per particle field on the ENU grid */
   sl_field_stats stats[SL_PARTICLE_COUNT]; /* raw statistics of the variable named after each type (QCLOUD, qc, ...) */
   double center_lat, center_lon; /* degrees, at the grid's centre column */
+  sl_georef georef;           /* projection, its check against XLAT/XLONG, placement in the world frame */
   double terrain_min, terrain_max; /* m above sea level */
   double model_top;           /* highest interface height, m */
   int time_index;
@@ -88,6 +91,12 @@ typedef struct sl_load_options {
   /* Per particle type: the variable that feeds it instead of the default mapping ("none": no
    * variable); NULL keeps the default. */
   const char *field_variable[SL_PARTICLE_COUNT];
+  /* Placement (docs/GEOREFERENCING.md). The world frame is the local east-north-up frame of
+   * (origin_lat, origin_lon) when has_origin is set, else of this time's grid centre; a series
+   * keeps one origin so a moving nest moves across the frame. */
+  int has_origin;
+  double origin_lat, origin_lon;
+  int earth_curvature;        /* 1: each column sinks by the sphere's depth below the tangent plane */
 } sl_load_options;
 
 /* Reads the file's shape, projection attributes and times. */

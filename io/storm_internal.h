@@ -70,10 +70,12 @@ typedef struct sl_level_reader {
 } sl_level_reader;
 
 /* Fills frame->volume from the mapped species, one variable at a time, with the conservative
- * vertical remap; ground/top are the output grid's bottom and top (m); dx, dy the output spacing. */
+ * vertical remap; ground/top are the output grid's bottom and top (m); spacing_h the output's
+ * horizontal spacing; corner the first column's x, y (NULL: the grid centred on 0, 0); drop, per
+ * output column, how far the column sinks for the earth's curvature (NULL: none). */
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
-                    int nspecies, double ground, double top, double dz, double dx, double dy, sl_storm_frame *frame,
-                    sl_error *err);
+                    int nspecies, double ground, double top, double dz, const double spacing_h[2],
+                    const double corner[2], const double *drop, sl_storm_frame *frame, sl_error *err);
 
 /* Number of distinct particle types the species feed. */
 int sl_species_type_count(const sl_species *species, int n);

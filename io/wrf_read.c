@@ -122,6 +122,8 @@ static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   info->truelat1 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT1", NAN);
   info->truelat2 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT2", NAN);
   info->stand_lon = sl_nc_attr_double(f, NC_GLOBAL, "STAND_LON", NAN);
+  info->pole_lat = sl_nc_attr_double(f, NC_GLOBAL, "POLE_LAT", 90.0);
+  info->pole_lon = sl_nc_attr_double(f, NC_GLOBAL, "POLE_LON", 0.0);
   info->mp_physics = (int)sl_nc_attr_double(f, NC_GLOBAL, "MP_PHYSICS", -1);
   sl_species_wrf(f, info->mp_physics, info);
 
@@ -386,6 +388,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
       (rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &xlat, err)) || (rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &xlong, err)))
     return rc;
   double *a = malloc(n2 * sizeof(double)), *b = malloc(n2 * sizeof(double));
+  double *drop = NULL; /* per column, m: the sphere's depth below the world's tangent plane */
   if (!a || !b) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %zu columns", path, n2);
     goto done;
@@ -410,9 +413,46 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)nzo : 1,
                                          sl_species_type_count(species, nspecies));
   if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
+  /* Georeferencing (io/georef.c) on the whole grid: this time's XLAT/XLONG place it, so a moving
+   * nest sits where it was; the projection from the attributes is checked against them. The
+   * subset's columns are then the whole grid's, every stride-th from (i0, j0). */
+  {
+    const size_t nfull = (size_t)info->nx * info->ny;
+    const sl_subset whole = {.stride = 1, .nx = info->nx, .ny = info->ny, .nz = 1};
+    double *lat_full = malloc(nfull * sizeof(double)), *lon_full = malloc(nfull * sizeof(double));
+    if (!lat_full || !lon_full) rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+    if (!rc) rc = sl_nc_read_slab(f, &xlat, t, -1, &whole, lat_full, err);
+    if (!rc) rc = sl_nc_read_slab(f, &xlong, t, -1, &whole, lon_full, err);
+    if (!rc)
+      rc = sl_georef_build(&frame->georef, info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
+                           info->pole_lat, info->pole_lon, info->nx, info->ny, info->dx, info->dy, lat_full, lon_full,
+                           path, err);
+    free(lat_full);
+    free(lon_full);
+    if (rc) goto done;
+  }
+  if (opt && opt->has_origin) sl_georef_place(&frame->georef, opt->origin_lat, opt->origin_lon);
+  const sl_georef *geo = &frame->georef;
+  /* Ground distance between columns at the centre (DX over the map factor), ENU corner. */
+  const double spacing_h[2] = {geo->ground_dx * s.stride, geo->ground_dy * s.stride};
+  const double corner_xy[2] = {geo->center_enu[0] - 0.5 * (info->nx - 1) * geo->ground_dx + s.i0 * geo->ground_dx,
+                               geo->center_enu[1] - 0.5 * (info->ny - 1) * geo->ground_dy + s.j0 * geo->ground_dy};
+  double max_drop = 0.0;
+  if (opt && opt->earth_curvature) {
+    if (!(drop = malloc(n2 * sizeof(double)))) {
+      rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+      goto done;
+    }
+    for (int j = 0; j < s.ny; ++j)
+      for (int i = 0; i < s.nx; ++i) {
+        const double d = sl_curvature_drop(hypot(corner_xy[0] + i * spacing_h[0], corner_xy[1] + j * spacing_h[1]));
+        drop[(size_t)j * s.nx + i] = d;
+        if (d > max_drop) max_drop = d;
+      }
+  }
   sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field};
-  if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground, top, dz, info->dx * s.stride,
-                            info->dy * s.stride, frame, err)))
+  if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground - max_drop, top, dz, spacing_h, corner_xy, drop,
+                            frame, err)))
     goto done;
   /* The centre column's latitude and longitude (placement of the grid on the earth). */
   sl_subset centre = {s.i0 + (s.nx / 2) * s.stride, s.j0 + (s.ny / 2) * s.stride, 1, 1, 1, 0, 0};
@@ -422,6 +462,11 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
     goto done;
   frame->center_lat = lat;
   frame->center_lon = lon;
+  /* The whole grid's centre lies between columns when a count is even: the georeference has it. */
+  if (s.stride == 1 && s.nx == info->nx && s.ny == info->ny) {
+    frame->center_lat = geo->center_lat;
+    frame->center_lon = geo->center_lon;
+  }
   frame->terrain_min = ground;
   frame->terrain_max = hmax;
   frame->model_top = top;
@@ -430,6 +475,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
 done:
   free(a);
   free(b);
+  free(drop);
   return rc;
 }
 

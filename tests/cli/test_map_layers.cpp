@@ -1,6 +1,6 @@
 // Map layers against GMT's own command-line tool and PROJ: a synthetic storm over the Mississippi
 // delta (Lambert grid), its coastline from GMT's C API (gmt_coast) equals `gmt coast -M`'s, and
-// each coastline vertex lands in the world frame where `proj` puts it (the grid is centred on the
+// each coastline vertex lands on the grid where `proj` puts it (the grid is centred on the
 // projection's origin), through the inversion of the file's XLAT/XLONG (ColumnMap).
 #include <cmath>
 #include <cstdio>
@@ -52,7 +52,7 @@ int main(int argc, char **argv)
     return 1;
   }
   sl_storm_frame frame;
-  sl_load_options lo{0, 0.0};
+  sl_load_options lo{};
   if (sl_storm_load(path.c_str(), &lo, &frame, &err)) {
     std::printf("load: %s\n", err.message);
     return 1;
@@ -92,10 +92,9 @@ int main(int argc, char **argv)
   std::ostringstream pts;
   std::vector<double> ours;
   for (const sl::GeoPoint &p : cli_points) {
-    double fi, fj, x, y;
+    double fi, fj;
     if (!map.to_grid(p.lat, p.lon, &fi, &fj)) continue;
-    map.grid_to_world(fi, fj, &x, &y);
-    ours.push_back(x), ours.push_back(y);
+    ours.push_back(fi), ours.push_back(fj);
     char row[96];
     std::snprintf(row, sizeof row, "%.10f %.10f\n", p.lon, p.lat);
     pts << row;
@@ -114,7 +113,11 @@ int main(int argc, char **argv)
   while (std::getline(projected, line) && 2 * k + 1 < ours.size()) {
     double x, y;
     if (std::sscanf(line.c_str(), "%lf %lf", &x, &y) != 2) continue;
-    worst_m = std::fmax(worst_m, std::hypot(x - ours[2 * k], y - ours[2 * k + 1]));
+    // PROJ's plane position as a grid position: the synthetic grid is centred on the projection's
+    // origin with spacing dx on the plane (the world frame is ENU on the sphere, which
+    // test_projection checks; here the inversion of XLAT/XLONG is what is tested).
+    const double pi = x / so.dx + 0.5 * (so.nx - 1), pj = y / so.dx + 0.5 * (so.ny - 1);
+    worst_m = std::fmax(worst_m, so.dx * std::hypot(pi - ours[2 * k], pj - ours[2 * k + 1]));
     ++k;
   }
   std::printf("%zu coastline vertices in the domain; worst distance from PROJ's position %.2f m (grid %.0f m)\n", k,
