@@ -662,16 +662,22 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddBoolToObject(j, "pareto", r.pareto);
     cJSON_AddStringToObject(j, "error_map", ("error_" + file_name(r.s.name) + ".png").c_str());
     cJSON_AddItemToArray(jrows, j);
+    // A class without pixels has no error: a dash, not a zero.
+    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
     md += "| " + r.s.name + " | " + fmt("%.3g", r.seconds) + " | " + fmt("%.3f", r.all.relative_rmse()) + " | " +
-          fmt("%.3f", r.thin.relative_rmse()) + " | " + fmt("%.3f", r.dense.relative_rmse()) + " | " +
-          fmt("%.3f", r.all.mean_relative()) + " | " + fmt("%.3f", r.thin.mean_relative()) + " | " +
-          fmt("%.3f", r.dense.mean_relative()) + " | " + fmt("%+.3f", r.all.bias()) + " | " + fmt("%.3g", r.mc_seconds) +
+          cell(r.thin, r.thin.relative_rmse()) + " | " + cell(r.dense, r.dense.relative_rmse()) + " | " +
+          fmt("%.3f", r.all.mean_relative()) + " | " + cell(r.thin, r.thin.mean_relative()) + " | " +
+          cell(r.dense, r.dense.mean_relative()) + " | " + fmt("%+.3f", r.all.bias()) + " | " + fmt("%.3g", r.mc_seconds) +
           " | " + fmt("%.3g", r.speedup) + " | " + (r.pareto ? "yes" : "") + " |\n";
   }
-  md += "| *reference noise* | " + fmt("%.3g", ref.seconds) + " | " + fmt("%.3f", noise) + " | " +
-        fmt("%.3f", rows[0].thin.noise_rmse()) + " | " + fmt("%.3f", rows[0].dense.noise_rmse()) + " | " +
-        fmt("%.3f", rows[0].all.noise_mean()) + " | " + fmt("%.3f", rows[0].thin.noise_mean()) + " | " +
-        fmt("%.3f", rows[0].dense.noise_mean()) + " | | | | |\n";
+  {
+    const Row &r = rows[0];
+    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
+    md += "| *reference noise* | " + fmt("%.3g", ref.seconds) + " | " + fmt("%.3f", noise) + " | " +
+          cell(r.thin, r.thin.noise_rmse()) + " | " + cell(r.dense, r.dense.noise_rmse()) + " | " +
+          fmt("%.3f", r.all.noise_mean()) + " | " + cell(r.thin, r.thin.noise_mean()) + " | " +
+          cell(r.dense, r.dense.noise_mean()) + " | | | | |\n";
+  }
   char head[512];
   std::snprintf(head, sizeof head,
                 "%s, %dx%d, compared in %ldx%ld blocks: %ld volume blocks (%ld thin, tau < 2; %ld dense); reference "
