@@ -480,7 +480,10 @@ int sl_cmd_validate(int argc, char **argv)
     const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
     if (!cJSON_IsNumber(jspp) || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
       return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
-    ref.spp = (long)jspp->valuedouble, ref.seconds = jsec->valuedouble, ref.wavelengths = jwl->valuestring;
+    ref.spp = (long)jspp->valuedouble, ref.seconds = jsec->valuedouble;
+    if (ref.wavelengths != jwl->valuestring)
+      return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
+                                ref.wavelengths, 2);
     ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
     ref.se.resize(3 * np);
     for (size_t q = 0; q < np; ++q) {
