@@ -17,13 +17,11 @@
 
 #include "cli.h"
 #include "commands.h"
-#include "scene.h"
+#include "render_scene.h"
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
 #include "sl_storm.h"
-
-bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
 
 namespace {
 
@@ -302,65 +300,24 @@ void parse_point(const cJSON *root, Scene *s)
 }
 
 // A `stormlight render` scene (docs/SCENES.md: a JSON object of render's options) drawn by the
-// reference with render's defaults, so that `validate` can give both renderers one scene: the same
-// storm, sun, air and camera. Render's own settings (lighting, slices, ...) are accepted and unused.
+// reference with render's defaults (app/render_scene.h), so that `validate` gives both renderers one
+// scene: the same storm, sun, air and camera. Render's own settings (lighting, slices, ...) are
+// accepted and unused.
 void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool quiet)
 {
-  std::vector<std::string> args;
+  sl::RenderScene rs;
   std::string why;
-  if (!sl::scene_to_arguments(path, &args, &why)) throw SceneError{why};
-  sl::Options o("reference", "", "");
-  sl::declare_render_options(o); /* the same options and defaults as render reads the scene with */
-  std::vector<std::string> all = {"reference"};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char *> cargv;
-  for (std::string &a : all) cargv.push_back(&a[0]);
-  if (!o.parse((int)cargv.size(), cargv.data())) throw SceneError{o.error()};
-  if (o.positional().size() != 1) throw SceneError{"the scene names no \"data\" file"};
-  const std::string file = o.positional()[0];
-  long time_index, width, height;
-  double dz, view_az, view_el, fov;
-  if (!o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) || !o.integer("width", &width, 1, 16384) ||
-      !o.integer("height", &height, 1, 16384) || !o.number("dz", &dz) || !o.number("view-azimuth", &view_az) ||
-      !o.number("view-elevation", &view_el) || !o.number("fov", &fov))
-    throw SceneError{o.error()};
-  sl_load_options load{};
-  load.time_index = (int)time_index;
-  load.dz = dz;
-  if (sl_storm_load(file.c_str(), &load, &s->frame, err)) throw SceneError{err->message};
+  if (!sl::load_render_scene(path, {}, &rs, &why)) throw SceneError{why.substr(path.size() + 2)};
+  s->frame = rs.frame;  // the frame moves to the Scene, which frees it
   s->have_frame = true;
-  // The sun as render places it: given angles, --date, or the file's own time over the grid's centre.
-  double sun_el, sun_az;
-  if (o.has("sun-azimuth") || o.has("sun-elevation")) {
-    if (!o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el)) throw SceneError{o.error()};
-  } else {
-    sl_utc date{};
-    if (o.has("date")) {
-      if (!sl_parse_iso8601_utc(o.str("date"), &date, &why)) throw SceneError{"date: " + why};
-    } else {
-      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
-      if (sl_storm_read_info(file.c_str(), info.get(), err) || !info->has_times)
-        throw SceneError{file + ": the file has no times: give sun-azimuth/sun-elevation or date"};
-      std::string t = info->times[time_index];
-      for (char &ch : t)
-        if (ch == '_') ch = 'T';
-      if (!sl_parse_iso8601_utc(t + "Z", &date, &why)) throw SceneError{file + ": time is not a date-time: " + why};
-    }
-    sl_solar_position pos;
-    if (sl_solar_position_compute(&date, s->frame.center_lat, s->frame.center_lon, nullptr, &pos, err))
-      throw SceneError{err->message};
-    sun_el = pos.elevation_deg, sun_az = pos.azimuth_deg;
-  }
-  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
-  s->sun_zenith = 90.0 - sun_el, s->sun_azimuth = sl_georef_grid_azimuth(&s->frame.georef, sun_az);
-  const std::string wl = o.str("wavelengths");
-  if (wl != "rgb" && wl != "spectral") throw SceneError{"wavelengths must be rgb or spectral"};
+  rs.have_frame = false;
+  s->sun_zenith = 90.0 - rs.sun_elevation_deg, s->sun_azimuth = rs.sun_azimuth_deg;
   sl_optics_request req;
   sl_optics_request_defaults(&req);
   req.particles = 0;
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
     if (s->frame.volume.eta[p]) req.particles |= 1u << p;
-  if (sl_optics_request_wavelengths(&req, wl == "rgb" ? "rgb" : "spectral16", err)) throw SceneError{err->message};
+  if (sl_optics_request_wavelengths(&req, rs.spectral ? "spectral16" : "rgb", err)) throw SceneError{err->message};
   sl::Progress progress("tables", !quiet);
   req.progress = progress_hook;
   req.progress_user = &progress;
@@ -369,25 +326,19 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
   if (!s->optics) throw SceneError{std::string("particle tables: ") + err->message};
   s->medium = sl_ref_medium_from_volume(&s->frame.volume, s->optics.get(), err);
   if (!s->medium) throw SceneError{err->message};
-  s->with_air = !o.has("no-atmosphere");
+  s->with_air = rs.with_air;
   if (s->with_air) {
     std::vector<double> nm(sl_ref_medium_wavelength_count(s->medium));
     for (size_t w = 0; w < nm.size(); ++w) nm[w] = sl_ref_medium_wavelength(s->medium, (int)w);
-    if (o.str("earth") != "flat" && o.str("earth") != "round") throw SceneError{"earth must be flat or round"};
-    if (sl_atmosphere_init(&s->atmosphere, nm.data(), (int)nm.size(),
-                           o.str("earth") == "flat" ? SL_EARTH_FLAT : SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, err))
+    if (sl_atmosphere_init(&s->atmosphere, nm.data(), (int)nm.size(), rs.flat_earth ? SL_EARTH_FLAT : SL_EARTH_ROUND,
+                           SL_RAYLEIGH_BODHAINE1999, err))
       throw SceneError{err->message};
   } else {
-    if (wl != "rgb") throw SceneError{"no-atmosphere needs wavelengths rgb"};
-    std::vector<double> sky;
-    if (!o.list("sky", &sky) || sky.size() != 3) throw SceneError{"sky must be R,G,B"};
-    for (int c = 0; c < 3; ++c) s->sky[c] = sky[c];
+    for (int c = 0; c < 3; ++c) s->sky[c] = rs.sky[c];
   }
   double lo[3], hi[3];
   sl_ref_medium_content_bounds(s->medium, lo, hi);
-  sl_camera_frame(lo, hi, view_az, view_el, fov, (int)width, (int)height, &s->camera);
-  if (o.has("camera-target") && !o.vec3("camera-target", s->camera.target)) throw SceneError{o.error()};
-  if (o.has("camera-position") && !o.vec3("camera-position", s->camera.position)) throw SceneError{o.error()};
+  if (!sl::render_scene_camera(&rs, lo, hi, &s->camera, &why)) throw SceneError{why};
   s->have_camera = true;
   s->kind = "storm";
 }

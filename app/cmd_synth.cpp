@@ -13,7 +13,7 @@ int sl_cmd_synth(int argc, char **argv)
   sl::Options o("synth", "KIND --out FILE.nc [options]",
                 "Writes a seeded synthetic storm as a WRF-style wrfout file (netCDF-4).\n"
                 "KIND: cumulonimbus (rain shaft, mixed-phase tower, ice/snow anvil), cirrus (thin ice deck),\n"
-                "stratocumulus (flat cellular liquid deck).");
+                "stratocumulus (flat cellular liquid deck), cumulus (small, optically thin: validation scenes).");
   o.option("out", "FILE", "output NetCDF file");
   o.option("seed", "N", "random seed", "1");
   o.option("nx", "N", "grid points west-east (default per kind)");
@@ -24,7 +24,7 @@ int sl_cmd_synth(int argc, char **argv)
   o.option("center", "LAT,LON", "the grid's centre, degrees north and east (default per kind)");
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
-  if (o.positional().size() != 1) return sl::fail("synth", "give exactly one KIND (cumulonimbus, cirrus, stratocumulus)", 2);
+  if (o.positional().size() != 1) return sl::fail("synth", "give exactly one KIND (cumulonimbus, cirrus, stratocumulus, cumulus)", 2);
   const int kind = sl_synth_kind_from_name(o.positional()[0].c_str());
   if (kind < 0) return sl::fail("synth", "unknown storm kind '" + o.positional()[0] + "'", 2);
   if (!o.has("out")) return sl::fail("synth", "missing --out FILE.nc", 2);

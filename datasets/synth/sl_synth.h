@@ -14,7 +14,8 @@ extern "C" {
 typedef enum sl_synth_kind {
   SL_SYNTH_CUMULONIMBUS = 0, /* rain shaft below cloud base, mixed-phase tower, ice/snow anvil */
   SL_SYNTH_CIRRUS = 1,       /* thin streaky ice deck near 10 km */
-  SL_SYNTH_STRATOCUMULUS = 2 /* flat-topped cellular liquid deck near 1 km */
+  SL_SYNTH_STRATOCUMULUS = 2, /* flat-topped cellular liquid deck near 1 km */
+  SL_SYNTH_CUMULUS = 3        /* small thin fair-weather cumulus, optical depth ~1-10 (validation) */
 } sl_synth_kind;
 
 typedef struct sl_synth_options {
@@ -28,7 +29,7 @@ typedef struct sl_synth_options {
   int minutes_per_step;
 } sl_synth_options;
 
-/* Returns -1 for an unknown name; names: cumulonimbus, cirrus, stratocumulus. */
+/* Returns -1 for an unknown name; names: cumulonimbus, cirrus, stratocumulus, cumulus. */
 int sl_synth_kind_from_name(const char *name);
 const char *sl_synth_kind_name(sl_synth_kind kind);
 void sl_synth_defaults(sl_synth_kind kind, sl_synth_options *opt);

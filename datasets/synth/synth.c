@@ -19,16 +19,17 @@
 #define LAPSE 0.0065      /* K/m, up to the tropopause */
 #define Z_TROPOPAUSE 12000.0
 
-static const char *const KIND_NAMES[] = {"cumulonimbus", "cirrus", "stratocumulus"};
+static const char *const KIND_NAMES[] = {"cumulonimbus", "cirrus", "stratocumulus", "cumulus"};
+#define KIND_COUNT 4
 
 int sl_synth_kind_from_name(const char *name)
 {
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < KIND_COUNT; ++k)
     if (strcmp(name, KIND_NAMES[k]) == 0) return k;
   return -1;
 }
 
-const char *sl_synth_kind_name(sl_synth_kind kind) { return (unsigned)kind < 3 ? KIND_NAMES[kind] : "unknown"; }
+const char *sl_synth_kind_name(sl_synth_kind kind) { return (unsigned)kind < KIND_COUNT ? KIND_NAMES[kind] : "unknown"; }
 
 void sl_synth_defaults(sl_synth_kind kind, sl_synth_options *o)
 {
@@ -47,6 +48,12 @@ void sl_synth_defaults(sl_synth_kind kind, sl_synth_options *o)
     o->nx = o->ny = 48, o->nz = 24, o->dx = 1000.0, o->top = 14000.0;
     o->center_lat = 47.0, o->center_lon = 8.0;
     snprintf(o->start_time, sizeof o->start_time, "2024-04-10_10:00:00");
+    break;
+  case SL_SYNTH_CUMULUS:
+    /* Small enough that the Monte Carlo reference converges in minutes (issue 7, item 6). */
+    o->nx = o->ny = 32, o->nz = 24, o->dx = 125.0, o->top = 3000.0;
+    o->center_lat = 35.2, o->center_lon = -97.4;
+    snprintf(o->start_time, sizeof o->start_time, "2024-06-15_16:00:00");
     break;
   case SL_SYNTH_STRATOCUMULUS:
   default:
@@ -150,10 +157,32 @@ static hydrometeors stratocumulus(uint64_t seed, double x, double y, double z, d
   return h;
 }
 
+/* A thin, lumpy fair-weather cumulus (humilis) of moderate optical thickness: optical depths of
+ * about 1-10 through it, the range where the Monte Carlo reference converges in minutes and
+ * where thin and dense pixels both occur (issue 7's validation). Liquid only, well below the
+ * freezing level; liquid water rises from the base as in an adiabatic parcel. */
+static hydrometeors cumulus(uint64_t seed, double x, double y, double z, double t)
+{
+  hydrometeors h = {0};
+  const double km = 1.0 / 1000.0;
+  /* Two octaves from 0.8 km: above the 125 m grid's Nyquist length. */
+  const double n = sl_fractal_noise(seed, x * km / 0.8 + 0.2 * t, y * km / 0.8, z * km / 0.8, 2);
+  const double base = 1000.0, top = 2300.0 + 300.0 * (n - 0.5);
+  /* A dome: the radius shrinks toward the top, the edge is lumpy. */
+  const double height = (z - base) / (top - base);
+  const double radius = (1150.0 + 350.0 * (n - 0.5)) * sqrt(fmax(0.0, 1.0 - height * height));
+  if (!(radius > 1.0)) return h; /* above the top (smoothstep of an empty edge would be 1) */
+  const double r = hypot(x, y + 150.0);
+  const double inside = smoothstep(radius, 0.7 * radius, r) * smoothstep(base, base + 120.0, z);
+  h.cloud = 7e-5 * inside * (0.15 + (height > 0.0 ? height : 0.0)) * (0.5 + n);
+  return h;
+}
+
 /* Gentle terrain: a low ridge, so the reader's terrain-following path is exercised. */
 static double terrain_height(const sl_synth_options *o, double x, double y)
 {
   if (o->kind == SL_SYNTH_STRATOCUMULUS) return 0.0; /* over the ocean */
+  if (o->kind == SL_SYNTH_CUMULUS) return 0.0;        /* a flat field: nothing but the cloud */
   const double half = 0.5 * o->nx * o->dx;
   return 250.0 * exp(-pow((x + 0.5 * half) / (0.3 * half), 2.0)) * (0.8 + 0.2 * cos(y / half * M_PI));
 }
@@ -237,6 +266,7 @@ int sl_synth_write(const char *path, const sl_synth_options *o, sl_error *err)
           hydrometeors h;
           if (o->kind == SL_SYNTH_CUMULONIMBUS) h = cumulonimbus(o->seed, x, y, z, temperature, phase);
           else if (o->kind == SL_SYNTH_CIRRUS) h = cirrus(o->seed, x, y, z, phase);
+          else if (o->kind == SL_SYNTH_CUMULUS) h = cumulus(o->seed, x, y, z, phase);
           else h = stratocumulus(o->seed, x, y, z, phase);
           qc[idx] = (float)h.cloud;
           qr[idx] = (float)h.rain;

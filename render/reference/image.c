@@ -36,9 +36,6 @@ void sl_ref_scene_defaults(sl_ref_scene *s)
   s->seed = 1;
 }
 
-/* The project's one pinhole camera (render/volume's sl_camera_ray): same pixel, same ray. */
-int sl_ref_pixel_ray(const sl_camera *cam, int px, int py, double d[3]) { return sl_camera_ray(cam, px, py, d); }
-
 int sl_ref_accum_init(sl_ref_accum *a, int width, int height, int n_wavelengths, sl_error *err)
 {
   memset(a, 0, sizeof *a);

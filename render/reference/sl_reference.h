@@ -208,9 +208,6 @@ int sl_ref_accum_image(const sl_ref_accum *acc, const sl_ref_medium *m, sl_image
  * as sl_renderer_background, in the medium's channels mapped as above. */
 int sl_ref_background(const sl_ref_scene *scene, const sl_camera *camera, sl_image *img, sl_error *err);
 
-/* The pinhole ray of pixel (px, py): render/volume's pixel_ray, reproduced (docs/REFERENCE.md). */
-int sl_ref_pixel_ray(const sl_camera *cam, int px, int py, double d[3]);
-
 /* ---- point source (item 3) ------------------------------------------------------------------ */
 
 typedef struct sl_ref_point_options {

@@ -53,7 +53,7 @@ int main(int argc, char **argv)
   CHECK(sl_ref_render(&sc, &cam, &b, &acc, &err) == SL_OK);
   for (int py = 0; py < 3; ++py) {
     double dir[3];
-    sl_ref_pixel_ray(&cam, 0, py, dir);
+    sl_camera_ray(&cam, 0, py, dir);
     const double cos_sun = dir[0] * sc.sun_direction[0] + dir[1] * sc.sun_direction[1] + dir[2] * sc.sun_direction[2];
     for (int w = 0; w < 3; ++w) {
       const double want = sl_sky_inscatter(beta[w], 1.0 / H, 1.0, dir[2], INFINITY, 1.0 / sin(sun_elev), cos_sun);

@@ -1,0 +1,730 @@
+// stormlight validate: the fast model (render/volume) at several settings against the Monte Carlo
+// reference (render/reference) on one scene, with time and error for each (issue 7, item 5). The
+// table, error maps and the speed-against-error plot go to a report folder; docs/ACCURACY.md says
+// what the numbers mean and how they were made.
+#include <cjson/cJSON.h>
+#include <omp.h>
+#include <vtkAxis.h>
+#include <vtkChartLegend.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPen.h>
+#include <vtkPlot.h>
+#include <vtkPlotPoints.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkTable.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "commands.h"
+#include "render_scene.h"
+#include "sl_image_io.h"
+#include "sl_optics.h"
+#include "sl_reference.h"
+#include "sl_renderer.h"
+#include "sl_sky.h"
+#include "sl_tempfile.h"
+#include "vtk_png.h"
+
+namespace {
+
+const char *kCmd = "validate";
+
+// Pixels are classed by the optical depth tau along the view ray (the fast renderer's transparency,
+// a deterministic quadrature): none below kVolumeTau (sky, where both renderers draw the same air),
+// thin below kThinTau (issue 7), dense above.
+const double kVolumeTau = 0.01;
+const double kThinTau = 2.0;
+
+void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
+
+using TablesPtr = std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)>;
+
+// One setting of the fast renderer. Zero means "automatic" as in sl_scene.
+struct Setting {
+  std::string name, family;
+  int slices = 0, light_resolution = 0, max_order = 0;
+  sl_lighting lighting = SL_LIGHTING_MULTIPLE;
+  double xi = 0.05;
+  bool spectral = false, light_volume = false;
+};
+
+// Error of one pixel class against the reference. Sums over the class's pixels and R, G, B.
+struct ClassError {
+  long pixels = 0;
+  double d2 = 0, b2 = 0, d1 = 0, b1 = 0, d = 0, se2 = 0, se1 = 0;
+  void add(double a, double b, double se)
+  {
+    d2 += (a - b) * (a - b), b2 += b * b, d1 += std::fabs(a - b), b1 += std::fabs(b), d += a - b;
+    se2 += se * se, se1 += se;
+  }
+  // sqrt(sum (a-b)^2 / sum b^2)
+  double relative_rmse() const { return b2 > 0 ? std::sqrt(d2 / b2) : 0.0; }
+  // Radiance-weighted mean relative error, sum |a-b| / sum |b|.
+  double mean_relative() const { return b1 > 0 ? d1 / b1 : 0.0; }
+  double bias() const { return b1 > 0 ? d / b1 : 0.0; }
+  // What a perfect model would show against this reference: the reference's relative RMS standard
+  // error, and its expected contribution to the mean absolute error (sqrt(2/pi) se for Gaussian noise).
+  double noise_rmse() const { return b2 > 0 ? std::sqrt(se2 / b2) : 0.0; }
+  double noise_mean() const { return b1 > 0 ? std::sqrt(2.0 / M_PI) * se1 / b1 : 0.0; }
+  // The model's own error with the reference's noise taken out (squares subtract).
+  double model_rmse() const { return b2 > 0 ? std::sqrt(std::max(0.0, d2 - se2) / b2) : 0.0; }
+};
+
+struct Row {
+  Setting s;
+  double seconds = 0;
+  ClassError all, thin, dense;
+  double mc_seconds = 0, speedup = 0;
+  bool pareto = false;
+};
+
+struct Reference {
+  sl_image layer{};
+  std::vector<float> se;  // 3 per pixel
+  long spp = 0;
+  double seconds = 0;
+  int threads = 0;
+  std::string wavelengths, origin;
+  ~Reference() { sl_image_free(&layer); }
+};
+
+bool ends_with(const std::string &s, const std::string &tail)
+{
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string fmt(const char *f, double v)
+{
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+bool write_text(const std::string &path, const std::string &body, std::string *why)
+{
+  char tmp[4096];
+  sl_error err{};
+  if (sl_temp_name(path.c_str(), tmp, sizeof tmp, &err)) return *why = err.message, false;
+  {
+    std::ofstream f(tmp);
+    f << body;
+    if (!f) return *why = path + ": cannot write", false;
+  }
+  if (sl_temp_commit(tmp, path.c_str(), &err)) return *why = err.message, false;
+  return true;
+}
+
+// The variants: one axis at a time away from the scene's own setting, plus two cheap combinations
+// for the fast end of the Pareto front.
+std::vector<Setting> variants(const Setting &base, bool quick)
+{
+  std::vector<Setting> v;
+  auto add = [&](const std::string &family, const std::string &name, auto change) {
+    Setting s = base;
+    s.family = family, s.name = name;
+    change(s);
+    v.push_back(s);
+  };
+  add("scene", "scene's settings", [](Setting &) {});
+  if (quick) {
+    add("slices", "slices 64", [](Setting &s) { s.slices = 64; });
+    add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
+    add("xi", "xi 0", [](Setting &s) { s.xi = 0; });
+    return v;
+  }
+  for (int n : {32, 64, 128, 512}) add("slices", "slices " + std::to_string(n), [n](Setting &s) { s.slices = n; });
+  for (int n : {32, 64, 128, 256})
+    add("light buffer", "light buffer " + std::to_string(n), [n](Setting &s) { s.light_resolution = n; });
+  for (int n : {1, 2, 4, 8, 16, 32})
+    add("max order", "max order " + std::to_string(n), [n](Setting &s) { s.max_order = n; });
+  add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
+  add("lighting", "low albedo", [](Setting &s) { s.lighting = SL_LIGHTING_LOW_ALBEDO; });
+  add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
+  for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
+    if (xi != base.xi) add("xi", "xi " + fmt("%g", xi), [xi](Setting &s) { s.xi = xi; });
+  add("light volume", "light volume", [](Setting &s) { s.light_volume = true; });
+  add("fast", "slices 64, light buffer 64", [](Setting &s) { s.slices = 64, s.light_resolution = 64; });
+  add("fast", "slices 32, light buffer 32", [](Setting &s) { s.slices = 32, s.light_resolution = 32; });
+  return v;
+}
+
+// An image averaged over b x b pixel blocks (a last partial row or column of blocks is dropped):
+// radiance and transparency are means, standard errors of the means combine in quadrature. Comparing
+// blocks buys the reference's noise down by b without more samples where the model's errors are
+// smoother than a pixel.
+struct Blocks {
+  int width = 0, height = 0;
+  std::vector<double> rgb, se, transparency;
+};
+
+Blocks block_means(const sl_image &img, const float *se, int b)
+{
+  Blocks out;
+  out.width = img.width / b, out.height = img.height / b;
+  const size_t n = (size_t)out.width * out.height;
+  out.rgb.assign(3 * n, 0.0), out.se.assign(3 * n, 0.0), out.transparency.assign(n, 0.0);
+  const double inv = 1.0 / ((double)b * b);
+  for (int by = 0; by < out.height; ++by)
+    for (int bx = 0; bx < out.width; ++bx) {
+      const size_t k = (size_t)by * out.width + bx;
+      for (int y = by * b; y < (by + 1) * b; ++y)
+        for (int x = bx * b; x < (bx + 1) * b; ++x) {
+          const size_t q = (size_t)y * img.width + x;
+          for (int c = 0; c < 3; ++c) {
+            out.rgb[3 * k + c] += inv * img.rgba[4 * q + c];
+            if (se) out.se[3 * k + c] += inv * inv * (double)se[3 * q + c] * se[3 * q + c];
+          }
+          out.transparency[k] += inv * img.transparency[q];
+        }
+      for (int c = 0; c < 3; ++c) out.se[3 * k + c] = std::sqrt(out.se[3 * k + c]);
+    }
+  return out;
+}
+
+// Signed relative error of the pixel's R+G+B, blue (model too dark) through white to red (too
+// bright), saturating at +-range; pixels outside the volume dark grey.
+void error_map(const Blocks &a, const Blocks &b, const std::vector<unsigned char> &cls, double floor, double range,
+               std::vector<unsigned char> *rgb)
+{
+  const size_t n = (size_t)a.width * a.height;
+  rgb->assign(3 * n, 40);
+  for (size_t q = 0; q < n; ++q) {
+    if (!cls[q]) continue;
+    double sa = 0, sb = 0;
+    for (int c = 0; c < 3; ++c) sa += a.rgb[3 * q + c], sb += b.rgb[3 * q + c];
+    const double e = std::max(-1.0, std::min(1.0, (sa - sb) / std::max(sb, floor) / range));
+    const double w = 1.0 - std::fabs(e);
+    unsigned char *p = &(*rgb)[3 * q];
+    p[0] = (unsigned char)std::lround(255 * (e > 0 ? 1.0 : w));
+    p[1] = (unsigned char)std::lround(255 * w);
+    p[2] = (unsigned char)std::lround(255 * (e < 0 ? 1.0 : w));
+  }
+}
+
+std::string file_name(const std::string &name)
+{
+  std::string f;
+  for (char c : name)
+    if (std::isalnum((unsigned char)c)) f += c;
+    else if (!f.empty() && f.back() != '_') f += '_';
+  while (!f.empty() && f.back() == '_') f.pop_back();
+  return f;
+}
+
+cJSON *class_json(const ClassError &e)
+{
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "pixels", (double)e.pixels);
+  cJSON_AddNumberToObject(o, "relative_rmse", e.relative_rmse());
+  cJSON_AddNumberToObject(o, "mean_relative_error", e.mean_relative());
+  cJSON_AddNumberToObject(o, "bias", e.bias());
+  cJSON_AddNumberToObject(o, "reference_noise_rmse", e.noise_rmse());
+  cJSON_AddNumberToObject(o, "reference_noise_mean", e.noise_mean());
+  cJSON_AddNumberToObject(o, "model_rmse", e.model_rmse());
+  return o;
+}
+
+// Speed against error: one point set per family, the Pareto front and the Monte Carlo reference's
+// own error against time (its variance falls as 1/spp), on log axes.
+bool plot(const std::vector<Row> &rows, const Reference &ref, double ref_noise, const std::string &title,
+          const std::string &out, std::string *why)
+{
+  vtkNew<vtkContextView> view;
+  view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetSize(900, 650);
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetShowLegend(true);
+  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
+  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  chart->SetTitle(title.c_str());
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle("relative RMSE against the reference (volume pixels)");
+  chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("wall time per frame (s)");
+  chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(true);
+  const unsigned char palette[][3] = {{0, 0, 0},     {31, 119, 180}, {255, 127, 14}, {44, 160, 44},  {214, 39, 40},
+                                      {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {127, 127, 127}, {23, 190, 207}};
+  std::vector<std::string> families;
+  for (const Row &r : rows)
+    if (std::find(families.begin(), families.end(), r.s.family) == families.end()) families.push_back(r.s.family);
+  std::vector<vtkSmartPointer<vtkTable>> keep;
+  auto series = [&](const std::vector<double> &x, const std::vector<double> &y, const std::string &label, int type,
+                    const unsigned char *rgb, float width) {
+    vtkNew<vtkTable> t;
+    vtkNew<vtkDoubleArray> xs, ys;
+    xs->SetName("seconds");
+    ys->SetName(label.c_str());
+    for (size_t i = 0; i < x.size(); ++i) xs->InsertNextValue(x[i]), ys->InsertNextValue(y[i]);
+    t->AddColumn(xs);
+    t->AddColumn(ys);
+    vtkPlot *p = chart->AddPlot(type);
+    p->SetInputData(t, 0, 1);
+    p->SetColor(rgb[0], rgb[1], rgb[2], 255);
+    p->SetWidth(width);
+    p->SetLabel(label.c_str());
+    if (type == vtkChart::POINTS) vtkPlotPoints::SafeDownCast(p)->SetMarkerSize(9);
+    keep.push_back(t.GetPointer());
+  };
+  double tmin = 1e30, tmax = 0;
+  for (size_t f = 0; f < families.size(); ++f) {
+    std::vector<double> x, y;
+    for (const Row &r : rows)
+      if (r.s.family == families[f]) {
+        x.push_back(r.seconds), y.push_back(std::max(r.all.relative_rmse(), 1e-4));
+        tmin = std::min(tmin, r.seconds), tmax = std::max(tmax, r.seconds);
+      }
+    series(x, y, families[f], vtkChart::POINTS, palette[(f + 1) % 10], 1.0f);
+  }
+  std::vector<std::pair<double, double>> front;
+  for (const Row &r : rows)
+    if (r.pareto) front.emplace_back(r.seconds, std::max(r.all.relative_rmse(), 1e-4));
+  std::sort(front.begin(), front.end());
+  std::vector<double> px, py;
+  for (const auto &p : front) px.push_back(p.first), py.push_back(p.second);
+  series(px, py, "Pareto front", px.size() > 1 ? vtkChart::LINE : vtkChart::POINTS, palette[0], 2.0f);
+  // Monte Carlo: error = noise * sqrt(T_ref / t), drawn over the times the chart shows.
+  std::vector<double> mx, my;
+  const double t0 = std::min(tmin, ref.seconds) * 0.5, t1 = std::max(tmax, ref.seconds) * 2;
+  for (int i = 0; i <= 20; ++i) {
+    const double t = t0 * std::pow(t1 / t0, i / 20.0);
+    mx.push_back(t), my.push_back(ref_noise * std::sqrt(ref.seconds / t));
+  }
+  const unsigned char grey[3] = {150, 150, 150};
+  series(mx, my, "Monte Carlo (its noise)", vtkChart::LINE, grey, 2.0f);
+  return sl::write_window_png(view->GetRenderWindow(), out, why);
+}
+
+}  // namespace
+
+int sl_cmd_validate(int argc, char **argv)
+{
+  sl::Options o(kCmd, "--scene S.json [--ref report/reference.exr] --out report/ [--json]",
+                "Renders a scene of `stormlight render` with the fast model (half-angle slicing, Riley et al.\n"
+                "2004) at several settings - slices, light-buffer resolution, the highest scattering order n\n"
+                "of Ams_n, eq. 24 against eq. 25, 3 against 16 wavelengths, several xi, the light volume - and\n"
+                "compares each with the Monte Carlo reference (render/reference) of the same scene: wall time,\n"
+                "relative RMSE, mean relative error and bias over the volume's pixels, separately for thin\n"
+                "(tau < 2 along the view ray) and dense ones, the reference's own noise beside every error, and\n"
+                "the Monte Carlo time that reaches the same error (its variance falls as 1/spp). Writes\n"
+                "report.json, table.md, error maps (PNG), speed_error.png (VTK chart; needs an X display:\n"
+                "xvfb-run -a) and, unless --ref names one, the reference (reference.exr: the volume layer,\n"
+                "reference_stderr.exr, reference.json), which a later --ref can reuse.");
+  o.option("scene", "FILE", "a `stormlight render` scene (docs/SCENES.md)");
+  o.option("out", "DIR", "report folder (created)");
+  o.option("ref", "FILE.exr", "a reference.exr of an earlier report, with reference_stderr.exr and reference.json beside it");
+  o.option("spp", "N", "reference: samples per pixel and wavelength", "256");
+  o.option("seconds", "T", "reference: stop after whole passes once T seconds have passed (0: no limit)", "0");
+  o.option("seed", "N", "reference: random seed", "1");
+  o.option("width", "PX", "override the scene's image width");
+  o.option("height", "PX", "override the scene's image height");
+  o.option("block", "B", "compare means over B x B pixel blocks (the reference's noise falls by B)", "1");
+  o.option("repeat", "N", "render each setting N times and keep the fastest (least disturbed) time", "3");
+  o.option("interactive", "S", "frame time counted as interactive (seconds)", "0.1");
+  o.option("threads", "N", "OpenMP threads for both renderers (0: all)", "0");
+  o.option("max-error", "E", "exit 1 when the scene's own setting's relative RMSE exceeds E (regression guard)");
+  o.flag("quick", "four settings only (tests)");
+  o.flag("no-plot", "skip the VTK chart (no X display needed)");
+  o.flag("json", "print report.json on stdout");
+  o.flag("quiet", "no progress or table");
+  const int early = sl::parse_or_exit(o, argc, argv);
+  if (early >= 0) return early;
+  if (!o.has("scene") || !o.has("out")) return sl::fail(kCmd, "--scene FILE and --out DIR are required", 2);
+  long spp, seed, repeat, threads, block;
+  double max_seconds, interactive, max_error = INFINITY;
+  if (!o.integer("spp", &spp, 1, 100000000) || !o.integer("seed", &seed, 0, 0x7fffffffffffffffL) ||
+      !o.integer("repeat", &repeat, 1, 100) || !o.integer("block", &block, 1, 64) || !o.integer("threads", &threads, 0, 4096) ||
+      !o.number("seconds", &max_seconds) || !o.number("interactive", &interactive) ||
+      (o.has("max-error") && !o.number("max-error", &max_error)))
+    return sl::fail(kCmd, o.error(), 2);
+  if (max_seconds < 0) return sl::fail(kCmd, "--seconds must be >= 0", 2);
+  if (threads > 0) omp_set_num_threads((int)threads);
+  const bool json = o.has("json"), quiet = o.has("quiet") || json, want_plot = !o.has("no-plot");
+  std::string why;
+  if (want_plot && !sl::have_display(&why)) return sl::fail(kCmd, why + " (or pass --no-plot)", 2);
+  const std::string dir = o.str("out"), scene_path = o.str("scene");
+  std::vector<std::string> overrides;
+  for (const char *k : {"width", "height"})
+    if (o.has(k)) overrides.push_back(std::string("--") + k), overrides.push_back(o.str(k));
+  sl::RenderScene rs;
+  if (!sl::load_render_scene(scene_path, overrides, &rs, &why)) return sl::fail(kCmd, why, 2);
+  if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) return sl::fail(kCmd, dir + ": cannot create the folder", 2);
+  sl::Options &so = rs.options;
+  Setting base;
+  base.family = "scene";
+  {
+    long slices, light_res;
+    if (!so.integer("slices", &slices, 0, 16384) || !so.integer("light-resolution", &light_res, 0, 8192) ||
+        !so.number("xi", &base.xi))
+      return sl::fail(kCmd, scene_path + ": " + so.error(), 2);
+    base.slices = (int)slices, base.light_resolution = (int)light_res;
+    const std::string l = so.str("lighting");
+    base.lighting = l == "eq25" ? SL_LIGHTING_MULTIPLE_EQ25 : l == "low-albedo" ? SL_LIGHTING_LOW_ALBEDO
+                                                                                : SL_LIGHTING_MULTIPLE;
+    base.spectral = rs.spectral;
+    base.light_volume = so.has("light-volume");
+  }
+  sl_error err{};
+  // Air and particle tables per wavelength set (and per highest order), built once; tables come
+  // from the on-disk cache after the first run, so they are not part of any frame's time.
+  sl_atmosphere air[2];
+  for (int sp = 0; sp < 2; ++sp) {
+    double nm[SL_SKY_SPECTRAL_COUNT];
+    sl_sky_spectral_wavelengths(nm);
+    if (rs.with_air && sl_atmosphere_init(&air[sp], sp ? nm : sl_sky_rgb_wavelengths_nm,
+                                          sp ? SL_SKY_SPECTRAL_COUNT : SL_SKY_RGB_COUNT,
+                                          rs.flat_earth ? SL_EARTH_FLAT : SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, &err))
+      return sl::fail(kCmd, err.message);
+  }
+  std::map<std::pair<int, int>, TablesPtr> tables;
+  auto tables_for = [&](bool spectral, int max_order) -> const sl_optics_tables * {
+    const auto key = std::make_pair((int)spectral, max_order);
+    auto it = tables.find(key);
+    if (it != tables.end()) return it->second.get();
+    sl_optics_request req;
+    sl_optics_request_defaults(&req);
+    req.particles = 0;
+    for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+      if (rs.frame.volume.eta[p]) req.particles |= 1u << p;
+    if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) return nullptr;
+    req.max_order = max_order;
+    sl::Progress progress("tables", !quiet);
+    req.progress = progress_hook;
+    req.progress_user = &progress;
+    TablesPtr t(sl_optics_build(&req, &err), sl_optics_free);
+    progress.done();
+    if (!t) return nullptr;
+    return tables.emplace(key, std::move(t)).first->second.get();
+  };
+  auto scene_for = [&](const Setting &s, sl_scene *sc) -> bool {
+    *sc = sl_scene{};
+    sc->volume = &rs.frame.volume;
+    sc->atmosphere = rs.with_air ? &air[s.spectral] : nullptr;
+    sc->optics = tables_for(s.spectral, s.max_order);
+    if (!sc->optics) return false;
+    sc->lighting = s.lighting, sc->xi = s.xi, sc->slices = s.slices, sc->light_resolution = s.light_resolution;
+    sc->light_volume = s.light_volume;
+    sl_sun_direction(rs.sun_elevation_deg, rs.sun_azimuth_deg, sc->sun_direction);
+    for (int c = 0; c < SL_CHANNELS; ++c) sc->sun_irradiance[c] = 1.0, sc->sky_radiance[c] = rs.sky[c];
+    sc->termination_transparency = 1e-6;  // as stormlight render
+    return true;
+  };
+
+  // The camera as render frames it, from the baseline renderer's content bounds.
+  sl_scene base_scene;
+  if (!scene_for(base, &base_scene)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
+  sl_camera cam{};
+  {
+    sl_renderer *r = sl_renderer_create(&base_scene, &err);
+    if (!r) return sl::fail(kCmd, scene_path + ": " + err.message);
+    double lo[3], hi[3];
+    sl_renderer_content_bounds(r, lo, hi);
+    sl_renderer_destroy(r);
+    if (!sl::render_scene_camera(&rs, lo, hi, &cam, &why)) return sl::fail(kCmd, scene_path + ": " + why, 2);
+  }
+  const size_t np = (size_t)cam.width * cam.height;
+
+  // The reference: read, or rendered now at the scene's wavelengths.
+  Reference ref;
+  ref.wavelengths = base.spectral ? "spectral16" : "rgb";
+  ref.threads = omp_get_max_threads();
+  sl_ref_scene rsc;
+  sl_ref_scene_defaults(&rsc);
+  std::unique_ptr<sl_ref_medium, void (*)(sl_ref_medium *)> medium(
+      sl_ref_medium_from_volume(&rs.frame.volume, tables_for(base.spectral, 0), &err), sl_ref_medium_destroy);
+  if (!medium) return sl::fail(kCmd, scene_path + ": " + err.message);
+  rsc.medium = medium.get();
+  sl_sun_direction(rs.sun_elevation_deg, rs.sun_azimuth_deg, rsc.sun_direction);
+  rsc.atmosphere = rs.with_air ? &air[base.spectral] : nullptr;
+  for (int c = 0; c < 3; ++c) rsc.sky_radiance[c] = rs.sky[c];
+  rsc.seed = (unsigned long long)seed;
+  if (o.has("ref")) {
+    const std::string path = o.str("ref");
+    if (!ends_with(path, ".exr")) return sl::fail(kCmd, path + ": --ref must name an .exr", 2);
+    const std::string stem = path.substr(0, path.size() - 4);
+    sl_image se_img{};
+    if (sl_read_exr(path.c_str(), &ref.layer, &err) || sl_read_exr((stem + "_stderr.exr").c_str(), &se_img, &err))
+      return sl::fail(kCmd, err.message, 2);
+    std::unique_ptr<sl_image, void (*)(sl_image *)> se_guard(&se_img, sl_image_free);
+    if (ref.layer.width != cam.width || ref.layer.height != cam.height || se_img.width != cam.width ||
+        se_img.height != cam.height)
+      return sl::fail(kCmd, path + ": the reference is " + std::to_string(ref.layer.width) + "x" +
+                                std::to_string(ref.layer.height) + ", the scene's camera " +
+                                std::to_string(cam.width) + "x" + std::to_string(cam.height), 2);
+    std::ifstream in(stem + ".json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::unique_ptr<cJSON, void (*)(cJSON *)> meta(cJSON_Parse(ss.str().c_str()), cJSON_Delete);
+    const cJSON *jspp = meta ? cJSON_GetObjectItem(meta.get(), "spp") : nullptr;
+    const cJSON *jsec = meta ? cJSON_GetObjectItem(meta.get(), "seconds") : nullptr;
+    const cJSON *jwl = meta ? cJSON_GetObjectItem(meta.get(), "wavelengths") : nullptr;
+    const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
+    if (!cJSON_IsNumber(jspp) || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
+      return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
+    ref.spp = (long)jspp->valuedouble, ref.seconds = jsec->valuedouble;
+    if (ref.wavelengths != jwl->valuestring)
+      return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
+                                ref.wavelengths, 2);
+    ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
+    ref.se.resize(3 * np);
+    for (size_t q = 0; q < np; ++q) {
+      for (int c = 0; c < 3; ++c) ref.se[3 * q + c] = se_img.rgba[4 * q + c];
+      ref.layer.transparency[q] = 1.0f - ref.layer.rgba[4 * q + 3];
+    }
+    ref.origin = path;
+  } else {
+    sl_ref_accum acc{};
+    if (sl_ref_accum_init(&acc, cam.width, cam.height, sl_ref_medium_wavelength_count(medium.get()), &err) ||
+        sl_image_alloc(&ref.layer, cam.width, cam.height, &err))
+      return sl::fail(kCmd, err.message);
+    std::unique_ptr<sl_ref_accum, void (*)(sl_ref_accum *)> acc_guard(&acc, sl_ref_accum_free);
+    sl::Progress progress("reference", !quiet);
+    sl_ref_budget budget{spp, max_seconds, progress_hook, &progress};
+    ref.se.resize(3 * np);
+    if (sl_ref_render(&rsc, &cam, &budget, &acc, &err) || sl_ref_accum_image(&acc, medium.get(), &ref.layer, ref.se.data(), &err))
+      return sl::fail(kCmd, scene_path + ": " + err.message);
+    progress.done();
+    ref.spp = acc.samples, ref.seconds = acc.seconds;
+    ref.origin = dir + "/reference.exr";
+    sl_image se_img{};
+    if (sl_image_alloc(&se_img, cam.width, cam.height, &err)) return sl::fail(kCmd, err.message);
+    std::unique_ptr<sl_image, void (*)(sl_image *)> se_guard(&se_img, sl_image_free);
+    for (size_t q = 0; q < np; ++q) {
+      for (int c = 0; c < 3; ++c) se_img.rgba[4 * q + c] = ref.se[3 * q + c];
+      se_img.rgba[4 * q + 3] = 1.0f, se_img.depth[q] = INFINITY, se_img.transparency[q] = 0.0f;
+    }
+    cJSON *meta = cJSON_CreateObject();
+    cJSON_AddStringToObject(meta, "scene", scene_path.c_str());
+    cJSON_AddNumberToObject(meta, "spp", (double)ref.spp);
+    cJSON_AddNumberToObject(meta, "seconds", ref.seconds);
+    cJSON_AddNumberToObject(meta, "threads", ref.threads);
+    cJSON_AddNumberToObject(meta, "seed", (double)seed);
+    cJSON_AddStringToObject(meta, "wavelengths", ref.wavelengths.c_str());
+    char *text = cJSON_Print(meta);
+    const std::string body = std::string(text) + "\n";
+    std::free(text);
+    cJSON_Delete(meta);
+    if (sl_write_exr((dir + "/reference.exr").c_str(), &ref.layer, SL_EXR_FLOAT, &err) ||
+        sl_write_exr((dir + "/reference_stderr.exr").c_str(), &se_img, SL_EXR_FLOAT, &err))
+      return sl::fail(kCmd, err.message);
+    if (!write_text(dir + "/reference.json", body, &why)) return sl::fail(kCmd, why);
+  }
+
+  // Frames to look at: the reference over its background, and each setting's error map.
+  sl_image background{}, frame{}, img{};
+  std::unique_ptr<sl_image, void (*)(sl_image *)> g1(&background, sl_image_free), g2(&frame, sl_image_free),
+      g3(&img, sl_image_free);
+  if (sl_image_alloc(&background, cam.width, cam.height, &err) || sl_image_alloc(&frame, cam.width, cam.height, &err) ||
+      sl_image_alloc(&img, cam.width, cam.height, &err) || sl_ref_background(&rsc, &cam, &background, &err))
+    return sl::fail(kCmd, err.message);
+  sl_image_over(&ref.layer, &background, &frame);
+  if (sl_write_png((dir + "/reference.png").c_str(), &frame, 12.0f, &err)) return sl::fail(kCmd, err.message);
+
+  if (cam.width < block || cam.height < block) return sl::fail(kCmd, "--block is larger than the image", 2);
+  const Blocks ref_blocks = block_means(ref.layer, ref.se.data(), (int)block);
+  const size_t nb = (size_t)ref_blocks.width * ref_blocks.height;
+  std::vector<Row> rows;
+  std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
+  double floor = 0;
+  for (const Setting &s : variants(base, o.has("quick"))) {
+    sl_scene sc;
+    if (!scene_for(s, &sc)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
+    Row row;
+    row.s = s;
+    row.seconds = INFINITY;
+    for (long k = 0; k < repeat; ++k) {
+      const double t0 = sl::now_seconds();
+      sl_renderer *r = sl_renderer_create(&sc, &err);
+      sl_render_stats stats{};
+      const int rc = r ? sl_renderer_render(r, &cam, &img, &stats, &err) : 1;
+      sl_renderer_destroy(r);
+      if (rc) return sl::fail(kCmd, scene_path + " (" + s.name + "): " + err.message);
+      row.seconds = std::min(row.seconds, sl::now_seconds() - t0);
+    }
+    const Blocks fast = block_means(img, nullptr, (int)block);
+    if (cls.empty()) {
+      cls.resize(nb);
+      double sum = 0;
+      long count = 0;
+      for (size_t q = 0; q < nb; ++q) {
+        const double tau = -std::log(std::max(fast.transparency[q], 1e-300));
+        cls[q] = tau < kVolumeTau ? 0 : tau < kThinTau ? 1 : 2;
+        if (cls[q]) sum += ref_blocks.rgb[3 * q] + ref_blocks.rgb[3 * q + 1] + ref_blocks.rgb[3 * q + 2], ++count;
+      }
+      floor = count ? 0.05 * sum / count : 1.0;
+      sl_image_over(&img, &background, &frame);
+      if (sl_write_png((dir + "/fast.png").c_str(), &frame, 12.0f, &err)) return sl::fail(kCmd, err.message);
+    }
+    for (size_t q = 0; q < nb; ++q) {
+      if (!cls[q]) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double a = fast.rgb[3 * q + c], b = ref_blocks.rgb[3 * q + c], se = ref_blocks.se[3 * q + c];
+        row.all.add(a, b, se);
+        (cls[q] == 1 ? row.thin : row.dense).add(a, b, se);
+      }
+      ++row.all.pixels, ++(cls[q] == 1 ? row.thin : row.dense).pixels;
+    }
+    std::vector<unsigned char> map;
+    error_map(fast, ref_blocks, cls, floor, 0.5, &map);
+    if (sl_write_png_rgb8((dir + "/error_" + file_name(s.name) + ".png").c_str(), fast.width, fast.height, map.data(),
+                          &err))
+      return sl::fail(kCmd, err.message);
+    if (!quiet)
+      std::fprintf(stderr, "%-30s %8.4f s  relative RMSE %.4f (thin %.4f, dense %.4f)\n", s.name.c_str(), row.seconds,
+                   row.all.relative_rmse(), row.thin.relative_rmse(), row.dense.relative_rmse());
+    rows.push_back(row);
+  }
+  if (rows.empty() || rows[0].all.pixels == 0) return sl::fail(kCmd, scene_path + ": no pixel of the frame sees the volume", 2);
+
+  // Equal error: the reference's relative noise falls as 1/sqrt(spp) (its variance estimate), so
+  // Monte Carlo needs T_ref (noise / e)^2 to reach a measured error e.
+  const double noise = rows[0].all.noise_rmse();
+  for (Row &r : rows) {
+    const double e = r.all.relative_rmse();
+    r.mc_seconds = e > 0 ? ref.seconds * (noise / e) * (noise / e) : INFINITY;
+    r.speedup = r.mc_seconds / r.seconds;
+    r.pareto = true;
+    for (const Row &q : rows)
+      if ((q.seconds <= r.seconds && q.all.relative_rmse() < r.all.relative_rmse()) ||
+          (q.seconds < r.seconds && q.all.relative_rmse() <= r.all.relative_rmse()))
+        r.pareto = false;
+  }
+  std::sort(rows.begin() + 1, rows.end(), [](const Row &a, const Row &b) {
+    return a.s.family != b.s.family ? a.s.family < b.s.family : a.seconds < b.seconds;
+  });
+  const Row *best_interactive = nullptr, *best_xi = nullptr;
+  for (const Row &r : rows) {
+    if (r.seconds <= interactive && (!best_interactive || r.all.relative_rmse() < best_interactive->all.relative_rmse()))
+      best_interactive = &r;
+    const bool xi_only = (r.s.family == "xi" || r.s.family == "scene");
+    if (xi_only && (!best_xi || r.all.relative_rmse() < best_xi->all.relative_rmse())) best_xi = &r;
+  }
+
+  // The report: JSON, a Markdown table, the chart.
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddStringToObject(root, "scene", scene_path.c_str());
+  cJSON_AddNumberToObject(root, "width", cam.width);
+  cJSON_AddNumberToObject(root, "height", cam.height);
+  cJSON_AddNumberToObject(root, "block", (double)block);
+  cJSON_AddNumberToObject(root, "threads", omp_get_max_threads());
+  cJSON_AddNumberToObject(root, "thin_tau_below", kThinTau);
+  cJSON_AddNumberToObject(root, "volume_tau_above", kVolumeTau);
+  cJSON *jr = cJSON_AddObjectToObject(root, "reference");
+  cJSON_AddStringToObject(jr, "file", ref.origin.c_str());
+  cJSON_AddNumberToObject(jr, "spp", (double)ref.spp);
+  cJSON_AddNumberToObject(jr, "seconds", ref.seconds);
+  cJSON_AddNumberToObject(jr, "threads", ref.threads);
+  cJSON_AddStringToObject(jr, "wavelengths", ref.wavelengths.c_str());
+  cJSON_AddNumberToObject(jr, "noise", noise);
+  cJSON_AddNumberToObject(jr, "noise_thin", rows[0].thin.noise_rmse());
+  cJSON_AddNumberToObject(jr, "noise_dense", rows[0].dense.noise_rmse());
+  cJSON_AddStringToObject(jr, "equal_error_model",
+                          "Monte Carlo seconds to reach error e = seconds * (noise / e)^2: the variance estimate, "
+                          "which falls as 1/spp");
+  cJSON *jrows = cJSON_AddArrayToObject(root, "settings");
+  std::string md;
+  md += "| setting | s/frame | rel. RMSE all | thin | dense | mean rel. all | thin | dense | bias | MC s, same error | "
+        "speed-up | Pareto |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Row &r : rows) {
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "name", r.s.name.c_str());
+    cJSON_AddStringToObject(j, "family", r.s.family.c_str());
+    cJSON_AddNumberToObject(j, "slices", r.s.slices);
+    cJSON_AddNumberToObject(j, "light_resolution", r.s.light_resolution);
+    cJSON_AddNumberToObject(j, "max_order", r.s.max_order);
+    cJSON_AddStringToObject(j, "lighting", r.s.lighting == SL_LIGHTING_MULTIPLE ? "multiple"
+                                           : r.s.lighting == SL_LIGHTING_MULTIPLE_EQ25 ? "eq25" : "low-albedo");
+    cJSON_AddNumberToObject(j, "xi", r.s.xi);
+    cJSON_AddStringToObject(j, "wavelengths", r.s.spectral ? "spectral" : "rgb");
+    cJSON_AddBoolToObject(j, "light_volume", r.s.light_volume);
+    cJSON_AddNumberToObject(j, "seconds", r.seconds);
+    cJSON_AddItemToObject(j, "all", class_json(r.all));
+    cJSON_AddItemToObject(j, "thin", class_json(r.thin));
+    cJSON_AddItemToObject(j, "dense", class_json(r.dense));
+    cJSON_AddNumberToObject(j, "mc_seconds_equal_error", r.mc_seconds);
+    cJSON_AddNumberToObject(j, "speedup", r.speedup);
+    cJSON_AddBoolToObject(j, "pareto", r.pareto);
+    cJSON_AddStringToObject(j, "error_map", ("error_" + file_name(r.s.name) + ".png").c_str());
+    cJSON_AddItemToArray(jrows, j);
+    // A class without pixels has no error: a dash, not a zero.
+    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
+    md += "| " + r.s.name + " | " + fmt("%.3g", r.seconds) + " | " + fmt("%.3f", r.all.relative_rmse()) + " | " +
+          cell(r.thin, r.thin.relative_rmse()) + " | " + cell(r.dense, r.dense.relative_rmse()) + " | " +
+          fmt("%.3f", r.all.mean_relative()) + " | " + cell(r.thin, r.thin.mean_relative()) + " | " +
+          cell(r.dense, r.dense.mean_relative()) + " | " + fmt("%+.3f", r.all.bias()) + " | " + fmt("%.3g", r.mc_seconds) +
+          " | " + fmt("%.3g", r.speedup) + " | " + (r.pareto ? "yes" : "") + " |\n";
+  }
+  {
+    const Row &r = rows[0];
+    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
+    md += "| *reference noise* | " + fmt("%.3g", ref.seconds) + " | " + fmt("%.3f", noise) + " | " +
+          cell(r.thin, r.thin.noise_rmse()) + " | " + cell(r.dense, r.dense.noise_rmse()) + " | " +
+          fmt("%.3f", r.all.noise_mean()) + " | " + cell(r.thin, r.thin.noise_mean()) + " | " +
+          cell(r.dense, r.dense.noise_mean()) + " | | | | |\n";
+  }
+  char head[512];
+  std::snprintf(head, sizeof head,
+                "%s, %dx%d, compared in %ldx%ld blocks: %ld volume blocks (%ld thin, tau < 2; %ld dense); reference "
+                "%ld spp (%s) in %.1f s, %d threads.\n\n",
+                scene_path.c_str(), cam.width, cam.height, block, block, rows[0].all.pixels, rows[0].thin.pixels,
+                rows[0].dense.pixels, ref.spp, ref.wavelengths.c_str(), ref.seconds, ref.threads);
+  md = head + md;
+  if (best_interactive) {
+    cJSON *b = cJSON_AddObjectToObject(root, "best_interactive");
+    cJSON_AddStringToObject(b, "name", best_interactive->s.name.c_str());
+    cJSON_AddNumberToObject(b, "seconds", best_interactive->seconds);
+    cJSON_AddNumberToObject(b, "relative_rmse", best_interactive->all.relative_rmse());
+    cJSON_AddNumberToObject(b, "speedup", best_interactive->speedup);
+    md += "\nBest setting at or under " + fmt("%g", interactive) + " s per frame: " + best_interactive->s.name + ", " +
+          fmt("%.3g", best_interactive->seconds) + " s, relative RMSE " + fmt("%.3f", best_interactive->all.relative_rmse()) +
+          "; Monte Carlo needs " + fmt("%.3g", best_interactive->mc_seconds) + " s for the same error (speed-up " +
+          fmt("%.3g", best_interactive->speedup) + ").\n";
+  }
+  if (best_xi) {
+    cJSON_AddNumberToObject(root, "best_xi", best_xi->s.xi);
+    md += "Lowest error over xi (other settings the scene's): xi " + fmt("%g", best_xi->s.xi) + ", relative RMSE " +
+          fmt("%.3f", best_xi->all.relative_rmse()) + ".\n";
+  }
+  char *text = cJSON_Print(root);
+  const std::string body = std::string(text) + "\n";
+  std::free(text);
+  if (json) {
+    char *flat = cJSON_PrintUnformatted(root);
+    std::printf("%s\n", flat);
+    std::free(flat);
+  }
+  cJSON_Delete(root);
+  if (!write_text(dir + "/report.json", body, &why) || !write_text(dir + "/table.md", md, &why))
+    return sl::fail(kCmd, why);
+  if (want_plot) {
+    const std::string title = scene_path.substr(scene_path.find_last_of('/') + 1) + ": speed against error";
+    if (!plot(rows, ref, noise, title, dir + "/speed_error.png", &why)) return sl::fail(kCmd, why);
+  }
+  if (!quiet) std::printf("%s", md.c_str());
+  const Row &scene_row = *std::find_if(rows.begin(), rows.end(), [](const Row &r) { return r.s.family == "scene"; });
+  if (scene_row.all.relative_rmse() > max_error) {
+    std::fprintf(stderr, "stormlight validate: %s: relative RMSE %.4f of the scene's setting exceeds --max-error %g\n",
+                 scene_path.c_str(), scene_row.all.relative_rmse(), max_error);
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,107 @@
+#include "render_scene.h"
+
+#include <memory>
+
+#include "scene.h"
+#include "sl_sky.h"
+
+bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
+
+namespace sl {
+
+RenderScene::~RenderScene()
+{
+  if (have_frame) sl_storm_frame_free(&frame);
+}
+
+bool load_render_scene(const std::string &path, const std::vector<std::string> &overrides, RenderScene *s,
+                       std::string *why)
+{
+  std::vector<std::string> args;
+  if (!scene_to_arguments(path, &args, why)) return false;
+  const auto failed = [&](const std::string &message) {
+    *why = path + ": " + message;
+    return false;
+  };
+  declare_render_options(s->options);  // the same options and defaults render reads the scene with
+  std::vector<std::string> all = {"render"};
+  all.insert(all.end(), args.begin(), args.end());
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  std::vector<char *> cargv;
+  for (std::string &a : all) cargv.push_back(&a[0]);
+  Options &o = s->options;
+  if (!o.parse((int)cargv.size(), cargv.data())) return failed(o.error());
+  if (o.positional().size() != 1) return failed("the scene names no \"data\" file");
+  s->data = o.positional()[0];
+  double dz;
+  if (!o.integer("time", &s->time_index, 0, SL_MAX_TIMES - 1) || !o.number("dz", &dz)) return failed(o.error());
+  sl_error err{};
+  LoadOptions load;  // --field, --region, --levels, --stride, --max-memory as render reads them
+  std::string load_error;
+  if (!parse_load_options(o, &load, &load_error)) return failed(load_error);
+  load.load.time_index = (int)s->time_index;
+  load.load.dz = dz;
+  if (sl_storm_load(s->data.c_str(), &load.load, &s->frame, &err)) return failed(err.message);
+  s->have_frame = true;
+  if (o.has("sun-azimuth") || o.has("sun-elevation")) {
+    if (!o.number("sun-azimuth", &s->sun_azimuth_deg) || !o.number("sun-elevation", &s->sun_elevation_deg))
+      return failed(o.error());
+  } else {
+    sl_utc date{};
+    if (o.has("date")) {
+      if (!sl_parse_iso8601_utc(o.str("date"), &date, why)) return failed("date: " + *why);
+    } else {
+      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+      if (sl_storm_read_info(s->data.c_str(), info.get(), &err) || !info->has_times)
+        return failed(s->data + ": the file has no times: give sun-azimuth/sun-elevation or date");
+      std::string t = info->times[s->time_index];
+      for (char &ch : t)
+        if (ch == '_') ch = 'T';
+      if (!sl_parse_iso8601_utc(t + "Z", &date, why)) return failed(s->data + ": time is not a date-time: " + *why);
+    }
+    sl_solar_position pos;
+    if (sl_solar_position_compute(&date, s->frame.center_lat, s->frame.center_lon, nullptr, &pos, &err))
+      return failed(err.message);
+    s->sun_elevation_deg = pos.elevation_deg, s->sun_azimuth_deg = pos.azimuth_deg;
+  }
+  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
+  s->sun_azimuth_deg = sl_georef_grid_azimuth(&s->frame.georef, s->sun_azimuth_deg);
+  const std::string wl = o.str("wavelengths"), earth = o.str("earth");
+  if (wl != "rgb" && wl != "spectral") return failed("wavelengths must be rgb or spectral");
+  if (earth != "flat" && earth != "round") return failed("earth must be flat or round");
+  s->spectral = wl == "spectral";
+  s->flat_earth = earth == "flat";
+  s->with_air = !o.has("no-atmosphere");
+  if (!s->with_air) {
+    if (s->spectral) return failed("no-atmosphere needs wavelengths rgb");
+    std::vector<double> sky;
+    if (!o.list("sky", &sky) || sky.size() != 3) return failed("sky must be R,G,B");
+    for (int c = 0; c < 3; ++c) s->sky[c] = sky[c];
+  }
+  return true;
+}
+
+bool render_scene_camera(RenderScene *s, const double lo[3], const double hi[3], sl_camera *cam, std::string *why)
+{
+  Options &o = s->options;
+  long width, height;
+  double view_az, view_el, fov;
+  if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
+      !o.number("view-azimuth", &view_az) || !o.number("view-elevation", &view_el) || !o.number("fov", &fov)) {
+    *why = o.error();
+    return false;
+  }
+  if (!(fov > 0 && fov < 170)) {
+    *why = "fov must be in (0, 170) degrees";
+    return false;
+  }
+  sl_camera_frame(lo, hi, view_az, view_el, fov, (int)width, (int)height, cam);
+  if ((o.has("camera-target") && !o.vec3("camera-target", cam->target)) ||
+      (o.has("camera-position") && !o.vec3("camera-position", cam->position))) {
+    *why = o.error();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace sl
