@@ -19,6 +19,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "composite_pass.h"
+#include "gpu_render.h"
 #include "scene.h"
 #include "vtk_png.h"
 #include <cjson/cJSON.h>
@@ -50,10 +51,7 @@ void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(us
 // Composites through VTK: background, VTK's props, the volume; reads the float frame back.
 bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out)
 {
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(cam.width, cam.height);
-  window->SetMultiSamples(0);
+  vtkSmartPointer<vtkRenderWindow> window = sl::offscreen_window(cam.width, cam.height);
   vtkNew<vtkRenderer> renderer;
   window->AddRenderer(renderer);
   vtkCamera *camera = renderer->GetActiveCamera();
@@ -131,6 +129,8 @@ static int render_main(int argc, char **argv)
                 "tone-mapped sRGB. Without an X display VTK cannot open a window: run under 'xvfb-run -a'.");
   sl::declare_render_options(o);
   o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
+  o.flag("gpu", "draw the volume with the GPU pass (GLSL light sweep + ray-marched eye pass, docs/GPU.md);\n"
+                "falls back to the CPU with a one-line note when the OpenGL context cannot");
   o.flag("quiet", "no progress bar or summary");
   o.flag("json", "print one JSON object: camera, sun direction, size, seconds");
   o.option("scene", "FILE.json", "read options from a scene file; command-line flags override it");
@@ -305,13 +305,25 @@ static int render_main(int argc, char **argv)
   int rc = 0;
   sl_render_stats stats{};
   double t_render = 0, t_composite = 0, t_write = 0;
+  bool gpu_done = false;
   if (sl_image_alloc(&volume, cam.width, cam.height, &err) || sl_image_alloc(&background, cam.width, cam.height, &err) ||
       sl_image_alloc(&frame_img, cam.width, cam.height, &err)) {
     rc = sl::fail(cmd, err.message);
     goto done;
   }
   t0 = sl::now_seconds();
-  if (sl_renderer_render(r, &cam, &volume, &stats, &err) || sl_renderer_background(r, &cam, &background, &err)) {
+  if (o.has("gpu")) {
+    std::string why, display_error;
+    sl::GpuTimings gt;
+    if (!sl::have_display(&display_error)) why = display_error;
+    else if (sl::gpu_render_volume(r, cam, &volume, &why, &gt)) {
+      stats.light_seconds = gt.light_seconds, stats.eye_seconds = gt.eye_seconds;
+      gpu_done = true;
+    }
+    if (!gpu_done) std::fprintf(stderr, "render: --gpu: %s; rendering on the CPU\n", why.c_str());
+  }
+  if ((!gpu_done && sl_renderer_render(r, &cam, &volume, &stats, &err)) ||
+      sl_renderer_background(r, &cam, &background, &err)) {
     rc = sl::fail(cmd, err.message);
     goto done;
   }

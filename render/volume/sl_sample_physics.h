@@ -7,8 +7,9 @@
  *
  * The subset: no pointers, no structs, no double-only library calls (sl_exp, sl_log, ... map to
  * the float or double versions), arrays only as fixed-size parameters (SL_IN_ARRAY /
- * SL_OUT_ARRAY), integer casts through SL_INT, no literal suffixes. The particle model (tables,
- * albedos, xi) is reached through accessor macros: fields of sl_light_model in C, uniforms and
+ * SL_OUT_ARRAY), integer casts through SL_INT, no literal suffixes, no const locals (GLSL wants
+ * constant initializers there), no GLSL keywords as names (in, out, sample, input, ...). The
+ * particle model (tables, albedos, xi) is reached through accessor macros: fields of sl_light_model in C, uniforms and
  * texelFetch in GLSL (shaders/volume_model.glsl defines those before including this file). */
 #ifndef SL_SAMPLE_PHYSICS_H
 #define SL_SAMPLE_PHYSICS_H
@@ -92,13 +93,13 @@ SL_INLINE SL_REAL sl_expected_scatter_count(SL_MODEL_PARAM SL_IN_ARRAY(float, be
  * linear between integers; past the table's last order N each event adds ln(albedo F_N). */
 SL_INLINE SL_REAL sl_log_product_at(SL_MODEL_PARAM int j, int c, SL_REAL x)
 {
-  const int N = SL_MAX_ORDER(j, c);
+  int N = SL_MAX_ORDER(j, c);
   if (x >= SL_TO_REAL(N)) {
-    const SL_REAL last = SL_LOG_PRODUCT(j, c, N);
+    SL_REAL last = SL_LOG_PRODUCT(j, c, N);
     return last + (x - SL_TO_REAL(N)) * (last - SL_LOG_PRODUCT(j, c, N - 1));
   }
-  const int k = SL_INT(x);
-  const SL_REAL lo = SL_LOG_PRODUCT(j, c, k);
+  int k = SL_INT(x);
+  SL_REAL lo = SL_LOG_PRODUCT(j, c, k);
   return lo + (x - SL_TO_REAL(k)) * (SL_LOG_PRODUCT(j, c, k + 1) - lo);
 }
 
@@ -118,9 +119,9 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
 {
   SL_REAL ext = 0.0;
   for (int j = 0; j < SL_NF; ++j) ext += beta[j];
-  const SL_REAL transparency = sl_exp(-ext * len);
-  const SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
-  const SL_REAL events = rate * len;
+  SL_REAL transparency = sl_exp(-ext * len);
+  SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
+  SL_REAL events = rate * len;
   for (int c = 0; c < SL_NWL; ++c) {
     if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
       fraction[c] = transparency;
@@ -133,8 +134,8 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
       int order = SL_INT(sl_floor(n + 1.0 + events));
       SL_REAL f = 0.0, a = 0.0;
       for (int j = 0; j < SL_NF; ++j) {
-        const SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
-        const int N = SL_MAX_ORDER(j, c);
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
+        int N = SL_MAX_ORDER(j, c);
         f += share * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
         a += share * SL_ALBEDO(j, c);
       }
@@ -144,7 +145,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
        * events (exact for one field; a mix along a path has no exact per-field split). */
       SL_REAL log_kept = 0.0;
       for (int j = 0; j < SL_NF; ++j) {
-        const SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
         if (share > 0.0) log_kept += share * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
       }
       kept = sl_exp(log_kept);
@@ -157,56 +158,56 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
 
 /* Riley et al. 2004, eq. 26's angular term per wavelength at a sample whose light has scattered
  * n times: the fields' Ams_{n+1} (linear in n) plus xi, weighted by each field's scattering
- * coefficient (eq. 6): out[c] = sum_j albedo_j,c beta_j (Ams_j,c(n+1) + xi), m^-1 sr^-1. The
+ * coefficient (eq. 6): result[c] = sum_j albedo_j,c beta_j (Ams_j,c(n+1) + xi), m^-1 sr^-1. The
  * scattering angle comes as the angular grid's index and weight (fixed along a ray). */
 SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, int angle_index,
-                               SL_REAL angle_weight, SL_OUT_ARRAY(SL_REAL, out, SL_MAX_WAVELENGTHS))
+                               SL_REAL angle_weight, SL_OUT_ARRAY(SL_REAL, result, SL_MAX_WAVELENGTHS))
 {
   if (SL_MODE == SL_MODE_LOW_ALBEDO) {
-    const SL_REAL isotropic = sl_scattering_per_metre(SL_MODEL_ARG beta) / (4.0 * SL_PI);
-    for (int c = 0; c < SL_NWL; ++c) out[c] = isotropic;
+    SL_REAL isotropic = sl_scattering_per_metre(SL_MODEL_ARG beta) / (4.0 * SL_PI);
+    for (int c = 0; c < SL_NWL; ++c) result[c] = isotropic;
     return;
   }
   /* The event that sends the light to the eye is the (n+1)-th. */
-  const SL_REAL order = n + 1.0;
-  const int k = SL_INT(sl_floor(order));
-  const SL_REAL f = order - SL_TO_REAL(k);
+  SL_REAL order = n + 1.0;
+  int k = SL_INT(sl_floor(order));
+  SL_REAL f = order - SL_TO_REAL(k);
   for (int c = 0; c < SL_NWL; ++c) {
     SL_REAL sum = 0.0;
     for (int j = 0; j < SL_NF; ++j) {
       if (!(beta[j] > 0.0)) continue;
-      const int N = SL_MAX_ORDER(j, c);
-      const int k0 = k > N ? N : k, k1 = k + 1 > N ? N : k + 1;
-      const SL_REAL a00 = SL_AMS(j, c, k0, angle_index), a01 = SL_AMS(j, c, k0, angle_index + 1);
-      const SL_REAL a10 = SL_AMS(j, c, k1, angle_index), a11 = SL_AMS(j, c, k1, angle_index + 1);
-      const SL_REAL a0 = a00 + angle_weight * (a01 - a00);
-      const SL_REAL a1 = a10 + angle_weight * (a11 - a10);
+      int N = SL_MAX_ORDER(j, c);
+      int k0 = k > N ? N : k, k1 = k + 1 > N ? N : k + 1;
+      SL_REAL a00 = SL_AMS(j, c, k0, angle_index), a01 = SL_AMS(j, c, k0, angle_index + 1);
+      SL_REAL a10 = SL_AMS(j, c, k1, angle_index), a11 = SL_AMS(j, c, k1, angle_index + 1);
+      SL_REAL a0 = a00 + angle_weight * (a01 - a00);
+      SL_REAL a1 = a10 + angle_weight * (a11 - a10);
       sum += SL_ALBEDO(j, c) * beta[j] * ((1.0 - f) * a0 + f * a1 + SL_XI);
     }
-    out[c] = sum;
+    result[c] = sum;
   }
 }
 
 /* Single scattering over one eye segment of length len with constant extinction beta, when the
  * light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u) on top of
- * the eye's exp(-beta u): out[0] = beta int_0^len exp(-beta rate u) du and
- * out[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
+ * the eye's exp(-beta u): result[0] = beta int_0^len exp(-beta rate u) du and
+ * result[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
  * constant along the segment and one that grows linearly from 0 to 1. rate may be <= 0. */
-SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, out, 2))
+SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, result, 2))
 {
-  const SL_REAL x = beta * rate * len;
+  SL_REAL x = beta * rate * len;
   if (x > -0.25 && x < 0.25) {
-    /* Taylor series to x^6 (truncation below 2e-9): the closed form of out[1] cancels to second
+    /* Taylor series to x^6 (truncation below 2e-9): the closed form of result[1] cancels to second
      * order near x = 0, which in float costs 1e-3 of relative accuracy already at x = 1e-2. */
-    out[0] = beta * len *
+    result[0] = beta * len *
              (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x * (1.0 / 720.0 - x / 5040.0))))));
-    out[1] = beta * len *
+    result[1] = beta * len *
              (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x / 5760.0))))));
     return;
   }
-  const SL_REAL e = sl_exp(-x);
-  out[0] = beta * len * (1.0 - e) / x;
-  out[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
+  SL_REAL e = sl_exp(-x);
+  result[0] = beta * len * (1.0 - e) / x;
+  result[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
 
 #endif
