@@ -13,7 +13,9 @@
 
 #include "sl_renderer.h"
 
-#include "lighting.h"
+extern "C" {
+#include "lighting.h"  // a C header without C++ guards
+}
 
 class vtkOpenGLFramebufferObject;
 class vtkOpenGLQuadHelper;

@@ -63,7 +63,7 @@ void main()
     float dt = 3.0e38;
     for (int a = 0; a < 3; ++a)
       if (abs(d[a]) > 1e-12) dt = min(dt, 0.5 * slSpacing[a] / abs(d[a]));
-    int nsteps = int(ceil((t1 - t0) / dt));
+    int nsteps = sl_march_steps(t1 - t0, dt);
     dt = (t1 - t0) / float(max(nsteps, 1));
     vec4 l0 = slSampleLight(slEye + t0 * d);
     for (int s = 0; s < nsteps && T >= slTermination; ++s) {

@@ -6,12 +6,12 @@
 #ifndef SL_RENDERER_GPU_H
 #define SL_RENDERER_GPU_H
 
-#include "lighting.h"
 #include "sl_renderer.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+#include "lighting.h" /* a C header without C++ guards */
 
 #define SL_SUNLIGHT_TABLE_SIZE 257
 

@@ -27,11 +27,13 @@
 #define sl_exp expf
 #define sl_log logf
 #define sl_floor floorf
+#define sl_ceil ceilf
 #define sl_pow powf
 #else
 #define sl_exp exp
 #define sl_log log
 #define sl_floor floor
+#define sl_ceil ceil
 #define sl_pow pow
 #endif
 #define SL_INLINE static inline
@@ -62,6 +64,7 @@
 #define sl_exp exp
 #define sl_log log
 #define sl_floor floor
+#define sl_ceil ceil
 #define sl_pow pow
 #define SL_INLINE
 #define SL_INT(x) int(x)
@@ -186,6 +189,17 @@ SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FI
     }
     result[c] = sum;
   }
+}
+
+/* Steps of at most max_step that cover a ray's span through the volume. A span of a whole number
+ * of steps (a ray entering and leaving through opposite faces of the box, whose size is a whole
+ * number of grid cells) must not gain a step from the last bit of rounding: which way ceil goes
+ * there flips from pixel to pixel, and at cloud edges a step more or less moves every sample
+ * by up to half a step (measured: 12 % of an edge pixel's optical depth), which shows as speckle
+ * and differs between float and double. */
+SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
+{
+  return SL_INT(sl_ceil(span / max_step - 1e-3));
 }
 
 /* Single scattering over one eye segment of length len with constant extinction beta, when the
