@@ -65,6 +65,9 @@ class GpuVolumePass : public vtkRenderPass {
   // it again (e.g. after a sun change) re-uploads and re-sweeps.
   void SetRenderer(const sl_renderer *r);
   void SetCamera(const sl_camera &cam) { camera_ = cam; }
+  // Sweeps the light volume again on the next frame (what a sun change costs once the renderer
+  // holds the new sun; used by the benchmark).
+  void Resweep() { swept_ = false; }
 
   void Render(const vtkRenderState *s) override;
   void ReleaseGraphicsResources(vtkWindow *w) override;
