@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -29,7 +30,11 @@
 #include "cli.h"
 #include "commands.h"
 #include "scene.h"
+#include "sl_sky.h"
+#include "sl_storm.h"
 #include "vtk_png.h"
+
+bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
 
 namespace {
 
@@ -41,7 +46,56 @@ struct ViewState {
   bool explicit_camera = false;
   double position[3] = {0, 0, 0}, target[3] = {0, 0, 0};
   std::string lighting = "multiple";
+  // The date the sun's angles come from (keys move it), over the grid's centre.
+  bool have_date = false;
+  sl_utc date{};
+  double lat = 0, lon = 0;
+  int ntimes = 1;
+  std::vector<std::string> times;  // the file's times as ISO 8601 (empty when it has none)
 };
+
+// The sun's angles for the state's date (what render computes for --date).
+bool place_sun(ViewState &s, std::string *why)
+{
+  sl_solar_position pos;
+  sl_error err{};
+  if (sl_solar_position_compute(&s.date, s.lat, s.lon, nullptr, &pos, &err)) {
+    *why = err.message;
+    return false;
+  }
+  s.sun_az = pos.azimuth_deg;
+  s.sun_el = pos.elevation_deg;
+  return true;
+}
+
+// The grid's centre column at a time step (what render places the sun over; a moving nest's
+// centre moves with the series).
+bool grid_centre(ViewState &s, std::string *why)
+{
+  sl_storm_frame frame;
+  sl_load_options lo{(int)s.time, 0.0};
+  sl_error err{};
+  if (sl_storm_load(s.data.c_str(), &lo, &frame, &err)) {
+    *why = err.message;
+    return false;
+  }
+  s.lat = frame.center_lat, s.lon = frame.center_lon;
+  sl_storm_frame_free(&frame);
+  return true;
+}
+
+// The date moved by `hours`, calendar-normalized.
+void add_hours(sl_utc *d, double hours)
+{
+  std::tm t{};
+  t.tm_year = d->year - 1900, t.tm_mon = d->month - 1, t.tm_mday = d->day;
+  t.tm_hour = d->hour, t.tm_min = d->minute, t.tm_sec = (int)d->second;
+  const time_t when = timegm(&t) + (time_t)std::lround(hours * 3600.0);
+  std::tm u{};
+  gmtime_r(&when, &u);
+  d->year = u.tm_year + 1900, d->month = u.tm_mon + 1, d->day = u.tm_mday;
+  d->hour = u.tm_hour, d->minute = u.tm_min, d->second = u.tm_sec;
+}
 
 std::string num(double v)
 {
@@ -203,6 +257,21 @@ class Viewer {
     else if (k == "minus") state.exposure /= 1.25;
     else if (k == "z") state.fov = std::max(2.0, state.fov / 1.1);
     else if (k == "Z") state.fov = std::min(120.0, state.fov * 1.1);
+    else if ((k == "h" || k == "H" || k == "n" || k == "N") && state.have_date) {
+      add_hours(&state.date, (k == "h" ? -1 : k == "H" ? 1 : k == "n" ? -24 : 24));
+      std::string why;
+      if (!place_sun(state, &why)) std::fprintf(stderr, "view: %s\n", why.c_str()), redraw = false;
+      else
+        std::printf("view: %04d-%02d-%02d %02d:%02d UTC, sun elevation %.2f, azimuth %.2f\n", state.date.year,
+                    state.date.month, state.date.day, state.date.hour, state.date.minute, state.sun_el, state.sun_az);
+    } else if (k == "t" || k == "T") {
+      state.time = k == "t" ? std::max(0L, state.time - 1) : std::min((long)state.ntimes - 1, state.time + 1);
+      // The date follows the series: the sun of the new step's own time.
+      std::string why;
+      if (state.time < (long)state.times.size() && sl_parse_iso8601_utc(state.times[state.time], &state.date, &why) &&
+          (!grid_centre(state, &why) || !place_sun(state, &why)))
+        std::fprintf(stderr, "view: %s\n", why.c_str());
+    }
     else if (k == "p") {
       Save(save_prefix);
       redraw = false;
@@ -314,7 +383,8 @@ int sl_cmd_view(int argc, char **argv)
   sl::Options o("view", "FILE | --scene S [options]",
                 "An interactive window on a storm, drawn with the GPU pass (render --gpu; the CPU when the OpenGL\n"
                 "context cannot). Mouse: left drag orbits, the wheel zooms. Keys: arrows orbit; a/d sun azimuth\n"
-                "-/+ 5 degrees; w/s sun elevation +/- 2; x/X xi -/+ 0.01; -/+ exposure; z/Z zoom; p saves the view\n"
+                "-/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
+                "t/T the series' time step -/+ 1; x/X xi -/+ 0.01; -/+ exposure; z/Z zoom; p saves the view\n"
                 "as PREFIX.json (a scene for render --scene) and PREFIX.exr. --script plays events and exits.");
   sl::declare_render_options(o);
   o.option("scene", "FILE.json", "start from a scene file");
@@ -335,9 +405,31 @@ int sl_cmd_view(int argc, char **argv)
     return sl::fail("view", o.error(), 2);
   if (o.has("sun-azimuth") && (!o.number("sun-azimuth", &s.sun_az) || !o.number("sun-elevation", &s.sun_el)))
     return sl::fail("view", o.error(), 2);
-  if (!o.has("sun-azimuth"))
-    std::fprintf(stderr, "view: no sun angles given; the sun starts at azimuth %g, elevation %g (the viewer does not "
-                 "place the sun from a date yet)\n", s.sun_az, s.sun_el);
+  // The sun: the given angles, or the date's (--date or the file's time) as render places it.
+  {
+    std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+    sl_error err{};
+    if (sl_storm_read_info(s.data.c_str(), info.get(), &err)) return sl::fail("view", err.message);
+    s.ntimes = info->ntimes > 0 ? info->ntimes : 1;
+    std::string why, when;
+    if (!grid_centre(s, &why)) return sl::fail("view", why);
+    for (int i = 0; info->has_times && i < s.ntimes; ++i) {
+      std::string t = info->times[i];
+      for (char &ch : t)
+        if (ch == '_') ch = 'T';
+      s.times.push_back(t + "Z");
+    }
+    if (o.has("date")) when = o.str("date");
+    else if (s.time < (long)s.times.size()) when = s.times[s.time];
+    if (!when.empty()) {
+      if (!sl_parse_iso8601_utc(when, &s.date, &why)) return sl::fail("view", when + ": " + why, 2);
+      s.have_date = true;
+    }
+    if (!o.has("sun-azimuth")) {
+      if (!s.have_date) return sl::fail("view", s.data + ": no sun angles, no --date and no times in the file", 2);
+      if (!place_sun(s, &why)) return sl::fail("view", why);
+    }
+  }
   s.lighting = o.str("lighting");
   if (o.has("camera-position") || o.has("camera-target")) {
     if (!o.has("camera-position") || !o.has("camera-target"))

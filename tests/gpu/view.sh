@@ -29,4 +29,13 @@ if "$sl" compare "$work/saved.exr" "$work/start.exr" --threshold 0.05 > /dev/nul
   echo "FAIL the saved view looks like the starting one"
   exit 1
 fi
-echo "view: scripted orbit, sun and save reproduced by render --scene"
+# The series and the clock: a step forward (21:00 UTC in the Katrina file) and an hour later;
+# the sun then stands where render places it for that date.
+printf 'key T\nkey H\nsave %s/dated\n' "$work" > "$work/dated.txt"
+"$sl" view --scene "$scenes/fig9_storm_sky.json" --width 48 --height 36 --script "$work/dated.txt"
+grep -q '"time":	3' "$work/dated.json" || { echo "FAIL the time step did not advance"; exit 1; }
+data=$(sed -n 's/.*"data":\t"\(.*\)".*/\1/p' "$work/dated.json")
+"$sl" render "$data" --scene "$scenes/fig9_storm_sky.json" --time 3 --date 2005-08-28T22:00:00Z --width 48 --height 36 \
+  --gpu --quiet --out "$work/dated_batch.exr"
+"$sl" compare "$work/dated.exr" "$work/dated_batch.exr" --threshold 1e-6
+echo "view: scripted orbit, sun, time step, date and save reproduced by render"
