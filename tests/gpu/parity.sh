@@ -26,4 +26,10 @@ for scene in fig5_rainbow fig6_halo fig4_glory fig11_dawn fig9_storm_sky; do
   fi
   echo "$scene GPU vs CPU slicer (not asserted): $("$sl" compare "$work/$scene.gpu.exr" "$work/$scene.slicer.exr" --threshold 1)"
 done
+# A model the GPU path does not carry (16 wavelengths) falls back to the CPU with one line.
+"$sl" render --scene "$scenes/fig6_halo.json" --width 16 --height 12 --quiet --wavelengths spectral --gpu \
+  --out "$work/fallback.exr" 2> "$work/fallback.log"
+if [ "$(grep -c . "$work/fallback.log")" != 1 ] || ! grep -q "^render: --gpu: .*; rendering on the CPU$" "$work/fallback.log"; then
+  echo "FAIL the spectral fallback did not say so in one line:"; cat "$work/fallback.log"; status=1
+fi
 exit $status
