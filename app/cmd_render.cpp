@@ -418,7 +418,12 @@ static int render_main(int argc, char **argv)
   t_write = sl::now_seconds() - t0;
   if (!quiet && !sun_note.empty()) std::printf("%s\n", sun_note.c_str());
   if (!quiet && stats.night) std::printf("night: the sun is below the horizon; this model gives no sunlight and no sky\n");
-  if (!quiet)
+  if (!quiet && gpu_done)
+    std::printf("rendered %s time %ld: %dx%d on the GPU pass; load %.3f s, light sweep %.3f s, eye pass %.3f s, "
+                "composite %.3f s, write %.3f s\n",
+                path.c_str(), time_index, cam.width, cam.height, t_load, stats.light_seconds, stats.eye_seconds,
+                t_composite, t_write);
+  else if (!quiet)
     std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "
                 "pass %.3f s, composite %.3f s, write %.3f s\n",
                 path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,
