@@ -125,6 +125,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
   SL_REAL transparency = sl_exp(-ext * len);
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
+  SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0; /* each field's share is albedo_j beta_j / rate */
   for (int c = 0; c < SL_NWL; ++c) {
     if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
       fraction[c] = transparency;
@@ -137,7 +138,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
       int order = SL_INT(sl_floor(n + 1.0 + events));
       SL_REAL f = 0.0, a = 0.0;
       for (int j = 0; j < SL_NF; ++j) {
-        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
         int N = SL_MAX_ORDER(j, c);
         f += share * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
         a += share * SL_ALBEDO(j, c);
@@ -148,7 +149,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
        * events (exact for one field; a mix along a path has no exact per-field split). */
       SL_REAL log_kept = 0.0;
       for (int j = 0; j < SL_NF; ++j) {
-        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] / rate;
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
         if (share > 0.0) log_kept += share * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
       }
       kept = sl_exp(log_kept);
