@@ -46,6 +46,9 @@ struct ViewState {
   bool explicit_camera = false;
   double position[3] = {0, 0, 0}, target[3] = {0, 0, 0};
   std::string lighting = "multiple";
+  // render's other options, as given (the viewer does not change them): forwarded and saved.
+  std::vector<std::pair<std::string, std::string>> options;
+  std::vector<std::string> flags;
   // The date the sun's angles come from (keys move it), over the grid's centre.
   bool have_date = false;
   sl_utc date{};
@@ -112,6 +115,8 @@ std::vector<std::string> render_arguments(const ViewState &s)
                                 "--height", std::to_string(s.height), "--sun-azimuth", num(s.sun_az), "--sun-elevation",
                                 num(s.sun_el), "--fov", num(s.fov), "--xi", num(s.xi), "--exposure", num(s.exposure),
                                 "--lighting", s.lighting};
+  for (const auto &kv : s.options) a.push_back("--" + kv.first), a.push_back(kv.second);
+  for (const std::string &f : s.flags) a.push_back("--" + f);
   if (s.explicit_camera) {
     for (const std::string &x : {std::string("--camera-position"), vec(s.position), std::string("--camera-target"), vec(s.target)})
       a.push_back(x);
@@ -136,6 +141,8 @@ bool write_scene(const ViewState &s, const std::string &path, std::string *why)
   cJSON_AddNumberToObject(root, "xi", s.xi);
   cJSON_AddNumberToObject(root, "exposure", s.exposure);
   cJSON_AddStringToObject(root, "lighting", s.lighting.c_str());
+  for (const auto &kv : s.options) cJSON_AddStringToObject(root, kv.first.c_str(), kv.second.c_str());
+  for (const std::string &f : s.flags) cJSON_AddTrueToObject(root, f.c_str());
   if (s.explicit_camera) {
     cJSON_AddItemToObject(root, "camera-position", cJSON_CreateDoubleArray(s.position, 3));
     cJSON_AddItemToObject(root, "camera-target", cJSON_CreateDoubleArray(s.target, 3));
@@ -431,6 +438,11 @@ int sl_cmd_view(int argc, char **argv)
     }
   }
   s.lighting = o.str("lighting");
+  for (const char *name : {"dz", "earth", "fog-depth-km", "fog-visibility-km", "light-resolution", "sky", "slices",
+                           "threads", "wavelengths"})
+    if (o.has(name)) s.options.emplace_back(name, o.str(name));
+  for (const char *name : {"float", "light-volume", "no-atmosphere"})
+    if (o.has(name)) s.flags.push_back(name);
   if (o.has("camera-position") || o.has("camera-target")) {
     if (!o.has("camera-position") || !o.has("camera-target"))
       return sl::fail("view", "give both --camera-position and --camera-target, or neither", 2);
