@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "composite_pass.h"
 #include "render_series.h"
+#include "gpu_render.h"
 #include "scene.h"
 #include "terrain_scene.h"
 #include "vtk_png.h"
@@ -54,10 +55,7 @@ void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(us
 bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
                         const sl::TerrainScene *terrain)
 {
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(cam.width, cam.height);
-  window->SetMultiSamples(0);
+  vtkSmartPointer<vtkRenderWindow> window = sl::offscreen_window(cam.width, cam.height);
   vtkNew<vtkRenderer> renderer;
   window->AddRenderer(renderer);
   vtkCamera *camera = renderer->GetActiveCamera();
@@ -136,6 +134,8 @@ static int render_main(int argc, char **argv)
                 "tone-mapped sRGB. Without an X display VTK cannot open a window: run under 'xvfb-run -a'.");
   sl::declare_render_options(o);
   o.flag("cpu-composite", "composite on the CPU instead of through VTK (no X display needed)");
+  o.flag("gpu", "draw the volume with the GPU pass (GLSL light sweep + ray-marched eye pass, docs/GPU.md);\n"
+                "falls back to the CPU with a one-line note when the OpenGL context cannot");
   o.flag("quiet", "no progress bar or summary");
   o.flag("json", "print one JSON object: camera, sun direction, size, seconds");
   o.option("scene", "FILE.json", "read options from a scene file; command-line flags override it");
@@ -343,13 +343,25 @@ static int render_main(int argc, char **argv)
   int rc = 0;
   sl_render_stats stats{};
   double t_render = 0, t_composite = 0, t_write = 0;
+  bool gpu_done = false;
   if (sl_image_alloc(&volume, cam.width, cam.height, &err) || sl_image_alloc(&background, cam.width, cam.height, &err) ||
       sl_image_alloc(&frame_img, cam.width, cam.height, &err)) {
     rc = sl::fail(cmd, err.message);
     goto done;
   }
   t0 = sl::now_seconds();
-  if (sl_renderer_render(r, &cam, &volume, &stats, &err) || sl_renderer_background(r, &cam, &background, &err)) {
+  if (o.has("gpu")) {
+    std::string why, display_error;
+    sl::GpuTimings gt;
+    if (!sl::have_display(&display_error)) why = display_error;
+    else if (sl::gpu_render_volume(r, cam, &volume, &why, &gt)) {
+      stats.light_seconds = gt.light_seconds, stats.eye_seconds = gt.eye_seconds;
+      gpu_done = true;
+    }
+    if (!gpu_done) std::fprintf(stderr, "render: --gpu: %s; rendering on the CPU\n", why.c_str());
+  }
+  if ((!gpu_done && sl_renderer_render(r, &cam, &volume, &stats, &err)) ||
+      sl_renderer_background(r, &cam, &background, &err)) {
     rc = sl::fail(cmd, err.message);
     goto done;
   }
@@ -456,7 +468,12 @@ static int render_main(int argc, char **argv)
   if (!quiet && !sun_note.empty()) std::printf("%s\n", sun_note.c_str());
   if (!quiet && terrain && !terrain->summary().empty()) std::printf("%s\n", terrain->summary().c_str());
   if (!quiet && stats.night) std::printf("night: the sun is below the horizon; this model gives no sunlight and no sky\n");
-  if (!quiet)
+  if (!quiet && gpu_done)
+    std::printf("rendered %s time %ld: %dx%d on the GPU pass; load %.3f s, light sweep %.3f s, eye pass %.3f s, "
+                "composite %.3f s, write %.3f s\n",
+                path.c_str(), time_index, cam.width, cam.height, t_load, stats.light_seconds, stats.eye_seconds,
+                t_composite, t_write);
+  else if (!quiet)
     std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "
                 "pass %.3f s, composite %.3f s, write %.3f s\n",
                 path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,

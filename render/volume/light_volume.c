@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "renderer_internal.h"
+#include "sl_sample_physics.h"
 
 static size_t lv_index(const sl_volume *v, int i, int j, int k, int stride)
 {
@@ -204,7 +205,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
       double dt = INFINITY;
       for (int ax = 0; ax < 3; ++ax)
         if (fabs(d[ax]) > 1e-12) dt = fmin(dt, 0.5 * r->shape.spacing[ax] / fabs(d[ax]));
-      const int nsteps = (int)ceil((t1 - t0) / dt);
+      const int nsteps = sl_march_steps(t1 - t0, dt);
       dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
       double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
       double xs[3] = {o[0] + t0 * d[0], o[1] + t0 * d[1], o[2] + t0 * d[2]};

@@ -11,6 +11,15 @@
 
 #define NBINS 1800 /* 0.1 degree bins */
 
+/* The same measurements on the GPU path's frames: tests/gpu builds this file with
+ * SL_PHENOMENA_GPU and a shim that draws the volume layer with the GPU pass. */
+#ifdef SL_PHENOMENA_GPU
+int sl_test_gpu_render(const sl_renderer *r, const sl_camera *cam, sl_image *img);
+#define RENDER_VOLUME(r, cam, img, err) sl_test_gpu_render(r, cam, img)
+#else
+#define RENDER_VOLUME(r, cam, img, err) sl_renderer_render(r, cam, img, NULL, err)
+#endif
+
 static sl_optics_tables *tables(unsigned particles)
 {
   sl_optics_request req;
@@ -46,7 +55,7 @@ static void profile(sl_particle particle, const sl_optics_tables *opt, const dou
   if (!r) fprintf(stderr, "%s\n", err.message);
   sl_image img;
   sl_image_alloc(&img, cam->width, cam->height, &err);
-  sl_renderer_render(r, cam, &img, NULL, &err);
+  if (!CHECK(RENDER_VOLUME(r, cam, &img, &err) == 0)) memset(img.rgba, 0, 4 * sizeof(float) * cam->width * cam->height);
   memset(prof, 0, 3 * NBINS * sizeof(double));
   memset(counts, 0, NBINS * sizeof(int));
   double fwd[3], right[3], up[3];

@@ -1,0 +1,468 @@
+#include "gpu_volume_pass.h"
+
+#include <vtkObjectFactory.h>
+#include <vtkOpenGLFramebufferObject.h>
+#include <vtkOpenGLQuadHelper.h>
+#include <vtkOpenGLRenderUtilities.h>
+#include <vtkOpenGLRenderWindow.h>
+#include <vtkOpenGLShaderCache.h>
+#include <vtkOpenGLState.h>
+#include <vtkRenderState.h>
+#include <vtkRenderer.h>
+#include <vtkShaderProgram.h>
+#include <vtkTextureObject.h>
+#include <vtk_glew.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sl_renderer_gpu.h"
+#include "sl_shaders.h"
+
+namespace sl {
+
+vtkStandardNewMacro(GpuVolumePass);
+
+namespace {
+
+constexpr int kMaxFields = SL_MAX_FIELDS;
+constexpr int kWavelengths = 3;
+
+double seconds_since(std::chrono::steady_clock::time_point t)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// The fragment shader with the shared physics where the marker stands.
+std::string with_physics(const char *shader)
+{
+  std::string s = shader;
+  const std::string marker = "//SL::Physics";
+  const size_t at = s.find(marker);
+  if (at != std::string::npos) s.replace(at, marker.size(), gpu_physics_prelude() + sl_shader_volume_grid);
+  return s;
+}
+
+void release(vtkTextureObject **t, vtkWindow *w)
+{
+  if (!*t) return;
+  if (w) (*t)->ReleaseGraphicsResources(w);
+  (*t)->Delete();
+  *t = nullptr;
+}
+
+// The light volume's sweep (light_volume.c): planes across the sun's dominant axis, visited in
+// the light's order, and the in-plane shift of a sun ray from one plane to the next.
+struct SweepGeometry {
+  int axis, a1, a2, step, first;
+  double path, shift[2];
+  explicit SweepGeometry(const sl_renderer_gpu_inputs &in)
+  {
+    const double *sun = in.sun_direction;
+    const double prop[3] = {-sun[0], -sun[1], -sun[2]};
+    axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (std::fabs(prop[a]) > std::fabs(prop[axis])) axis = a;
+    a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    step = prop[axis] > 0.0 ? 1 : -1;
+    first = step > 0 ? 0 : in.n[axis] - 1;
+    path = in.spacing[axis] / std::fabs(prop[axis]);
+    shift[0] = -path * prop[a1] / in.spacing[a1];
+    shift[1] = -path * prop[a2] / in.spacing[a2];
+  }
+};
+
+}  // namespace
+
+std::string gpu_physics_prelude()
+{
+  return std::string("#define SL_MAX_FIELDS ") + std::to_string(kMaxFields) + "\n#define SL_MAX_WAVELENGTHS " +
+         std::to_string(kWavelengths) + "\n" + sl_shader_volume_model + "\n" + sl_shader_sl_sample_physics + "\n";
+}
+
+vtkTextureObject *new_float_texture(vtkOpenGLRenderWindow *win)
+{
+  vtkTextureObject *t = vtkTextureObject::New();
+  t->SetContext(win);
+  t->SetMinificationFilter(vtkTextureObject::Nearest);
+  t->SetMagnificationFilter(vtkTextureObject::Nearest);
+  t->SetWrapS(vtkTextureObject::ClampToEdge);
+  t->SetWrapT(vtkTextureObject::ClampToEdge);
+  t->SetWrapR(vtkTextureObject::ClampToEdge);
+  return t;
+}
+
+bool ready_quad(vtkOpenGLQuadHelper **quad, vtkOpenGLRenderWindow *win, const std::string &fragment)
+{
+  if (!*quad)
+    *quad = new vtkOpenGLQuadHelper(win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(),
+                                    fragment.c_str(), "");
+  else
+    win->GetShaderCache()->ReadyShaderProgram((*quad)->Program);
+  return (*quad)->Program && (*quad)->Program->GetCompiled();
+}
+
+bool bind_float_targets(vtkOpenGLFramebufferObject **fbo, vtkOpenGLRenderWindow *win, int w, int h, int targets)
+{
+  if (!*fbo) {
+    *fbo = vtkOpenGLFramebufferObject::New();
+    (*fbo)->SetContext(win);
+  }
+  if (!(*fbo)->PopulateFramebuffer(w, h, true, targets, VTK_FLOAT, false, 0, 0)) return false;
+  (*fbo)->Bind();
+  (*fbo)->ActivateDrawBuffers(targets);
+  (*fbo)->ActivateReadBuffer(0);
+  return true;
+}
+
+bool GpuModelTextures::Upload(vtkOpenGLRenderWindow *win, const sl_light_model *m, std::string *why)
+{
+  model_ = m;
+  // ln-products and F_n: one row per (field, wavelength); Ams_n: the tables' rows stacked.
+  int max_order = 1, rows = 0;
+  angles_ = 2;
+  angle_inv_step_ = 0.0;
+  ams_row_.assign(kMaxFields * kWavelengths, 0);
+  const bool tables = m->mode != SL_LIGHTING_LOW_ALBEDO && m->nf > 0;
+  if (tables) {
+    angles_ = m->table[0][0]->n_angles;
+    angle_inv_step_ = m->table[0][0]->inv_step_rad;
+    for (int j = 0; j < m->nf; ++j)
+      for (int c = 0; c < kWavelengths; ++c) {
+        max_order = std::max(max_order, m->max_order[j][c]);
+        ams_row_[j * kWavelengths + c] = rows;
+        rows += m->max_order[j][c] + 1;
+      }
+  }
+  const int width = max_order + 1, height = kMaxFields * kWavelengths;
+  std::vector<float> lp((size_t)width * height, 0.0f), fw((size_t)width * height, 0.0f);
+  std::vector<float> ams((size_t)angles_ * std::max(rows, 1), 0.0f);
+  if (tables)
+    for (int j = 0; j < m->nf; ++j)
+      for (int c = 0; c < kWavelengths; ++c) {
+        const sl_phase_table *t = m->table[j][c];
+        const int row = j * kWavelengths + c;
+        for (int k = 0; k <= t->max_order; ++k) {
+          lp[(size_t)row * width + k] = (float)m->log_product[j][c][k];
+          fw[(size_t)row * width + k] = (float)t->forward[k];
+        }
+        std::copy(t->ams, t->ams + (size_t)(t->max_order + 1) * t->n_angles,
+                  ams.begin() + (size_t)ams_row_[row] * angles_);
+      }
+  for (vtkTextureObject **t : {&log_product_, &forward_, &ams_})
+    if (!*t) *t = new_float_texture(win);
+  if (!log_product_->Create2DFromRaw(width, height, 1, VTK_FLOAT, lp.data()) ||
+      !forward_->Create2DFromRaw(width, height, 1, VTK_FLOAT, fw.data()) ||
+      !ams_->Create2DFromRaw(angles_, std::max(rows, 1), 1, VTK_FLOAT, ams.data())) {
+    *why = "the OpenGL context cannot hold the particle tables as float textures";
+    return false;
+  }
+  return true;
+}
+
+void GpuModelTextures::Activate()
+{
+  for (vtkTextureObject *t : {log_product_, forward_, ams_}) t->Activate();
+}
+
+void GpuModelTextures::Deactivate()
+{
+  for (vtkTextureObject *t : {log_product_, forward_, ams_}) t->Deactivate();
+}
+
+void GpuModelTextures::Release(vtkWindow *w)
+{
+  for (vtkTextureObject **t : {&log_product_, &forward_, &ams_}) release(t, w);
+}
+
+void GpuModelTextures::SetUniforms(vtkShaderProgram *p) const
+{
+  const sl_light_model *m = model_;
+  float albedo_mean[kMaxFields] = {0}, albedo[kMaxFields * kWavelengths] = {0};
+  int max_order[kMaxFields * kWavelengths] = {0};
+  for (int j = 0; j < m->nf; ++j) {
+    albedo_mean[j] = (float)m->albedo_mean[j];
+    for (int c = 0; c < kWavelengths; ++c) {
+      albedo[j * kWavelengths + c] = (float)m->albedo[j][c];
+      max_order[j * kWavelengths + c] = m->max_order[j][c];
+    }
+  }
+  p->SetUniformi("slNf", m->nf);
+  p->SetUniformi("slMode", (int)m->mode);
+  p->SetUniformf("slXi", (float)m->xi);
+  p->SetUniform1fv("slAlbedoMean", kMaxFields, albedo_mean);
+  p->SetUniform1fv("slAlbedo", kMaxFields * kWavelengths, albedo);
+  p->SetUniform1iv("slMaxOrder", kMaxFields * kWavelengths, max_order);
+  p->SetUniform1iv("slAmsRow", kMaxFields * kWavelengths, ams_row_.data());
+  p->SetUniformi("slLogProduct", log_product_->GetTextureUnit());
+  p->SetUniformi("slForward", forward_->GetTextureUnit());
+  p->SetUniformi("slAms", ams_->GetTextureUnit());
+}
+
+GpuVolumePass::GpuVolumePass() = default;
+
+GpuVolumePass::~GpuVolumePass() { ReleaseGraphicsResources(nullptr); }
+
+void GpuVolumePass::SetRenderer(const sl_renderer *r)
+{
+  renderer_ = r;
+  uploaded_ = swept_ = false;
+}
+
+std::string GpuVolumePass::Unsupported(const sl_renderer *r)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(r, &in);
+  const sl_light_model *m = in.model;
+  if (m->nwl != kWavelengths)
+    return "the GPU path carries three wavelengths; this scene has " + std::to_string(m->nwl);
+  if (m->nf > kMaxFields) return "more than four particle fields";
+  if (m->mode == SL_LIGHTING_LOW_ALBEDO) return "";
+  const sl_phase_table *t0 = m->table[0][0];
+  for (int j = 0; j < m->nf; ++j)
+    for (int c = 0; c < m->nwl; ++c) {
+      const sl_phase_table *t = m->table[j][c];
+      if (t->n_angles != t0->n_angles || std::fabs(t->step_rad - t0->step_rad) > 1e-12)
+        return "the particle tables use different angular grids";
+    }
+  return "";
+}
+
+bool GpuVolumePass::Fail(const std::string &why)
+{
+  error_ = why;
+  ok_ = false;
+  return false;
+}
+
+void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
+{
+  model_.Release(w);
+  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_}) release(t, w);
+  for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_})
+    if (*f) {
+      if (w) (*f)->ReleaseGraphicsResources(w);
+      (*f)->Delete();
+      *f = nullptr;
+    }
+  delete sweep_quad_;
+  delete eye_quad_;
+  sweep_quad_ = eye_quad_ = nullptr;
+  uploaded_ = swept_ = false;
+}
+
+// The volume's fields and the model's tables, once per renderer.
+bool GpuVolumePass::Upload(vtkOpenGLRenderWindow *win)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(renderer_, &in);
+  const sl_light_model *m = in.model;
+  const size_t count = (size_t)in.n[0] * in.n[1] * in.n[2];
+  // Fields: one float 3D texture, one channel per present field (at least one).
+  const int comps = std::max(1, m->nf);
+  std::vector<float> fields(count * comps, 0.0f);
+  if (m->nf > 0) std::copy(in.fields, in.fields + count * m->nf, fields.begin());
+  if (!fields_) fields_ = new_float_texture(win);
+  if (!fields_->Create3DFromRaw(in.n[0], in.n[1], in.n[2], comps, VTK_FLOAT, fields.data()))
+    return Fail("the OpenGL context cannot hold the volume as a float 3D texture");
+  std::string why;
+  if (!model_.Upload(win, m, &why)) return Fail(why);
+  uploaded_ = true;
+  swept_ = false;
+  return true;
+}
+
+// The lattice, the light volume's layout and the sun: what both shaders' look-ups need.
+void GpuVolumePass::SetVolumeUniforms(vtkShaderProgram *p)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(renderer_, &in);
+  model_.SetUniforms(p);
+  p->SetUniformi("slFields", fields_->GetTextureUnit());
+  p->SetUniformi("slLight", light_->GetTextureUnit());
+  const float spacing[3] = {(float)in.spacing[0], (float)in.spacing[1], (float)in.spacing[2]};
+  const float n[3] = {(float)in.n[0], (float)in.n[1], (float)in.n[2]};
+  float lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = -0.5f * spacing[a], hi[a] = (float)((in.n[a] - 0.5) * in.spacing[a]);
+  p->SetUniform3f("slSpacing", spacing);
+  p->SetUniform3f("slGridN", n);
+  p->SetUniform3f("slBoxLo", lo);
+  p->SetUniform3f("slBoxHi", hi);
+  const SweepGeometry g(in);
+  float e_axis[3] = {0, 0, 0}, e1[3] = {0, 0, 0}, e2[3] = {0, 0, 0};
+  e_axis[g.axis] = e1[g.a1] = e2[g.a2] = 1.0f;
+  p->SetUniform3f("slAxisE", e_axis);
+  p->SetUniform3f("slA1E", e1);
+  p->SetUniform3f("slA2E", e2);
+  p->SetUniformf("slFirst", (float)g.first);
+  p->SetUniformf("slStep", (float)g.step);
+  const float sun[3] = {(float)in.sun_direction[0], (float)in.sun_direction[1], (float)in.sun_direction[2]};
+  p->SetUniform3f("slSun", sun);
+}
+
+static void activate(std::initializer_list<vtkTextureObject *> ts)
+{
+  for (vtkTextureObject *t : ts) t->Activate();
+}
+static void deactivate(std::initializer_list<vtkTextureObject *> ts)
+{
+  for (vtkTextureObject *t : ts) t->Deactivate();
+}
+
+// The light volume: one plane per draw, copied into its layer of the 3D texture.
+bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(renderer_, &in);
+  const SweepGeometry g(in);
+  const int w = in.n[g.a1], h = in.n[g.a2], layers = in.n[g.axis];
+  if (!light_) light_ = new_float_texture(win);
+  if (!light_->Create3DFromRaw(w, h, layers, 4, VTK_FLOAT, nullptr))
+    return Fail("the OpenGL context cannot hold the light volume as a float 3D texture");
+  if (!bind_float_targets(&plane_fbo_, win, w, h, 1)) return Fail("the OpenGL context has no float render target");
+  if (!ready_quad(&sweep_quad_, win, with_physics(sl_shader_volume_light_sweep)))
+    return Fail("the light sweep's shader does not compile on this OpenGL context");
+  vtkOpenGLState *gl = win->GetState();
+  gl->vtkglViewport(0, 0, w, h);
+  gl->vtkglScissor(0, 0, w, h);
+  activate({fields_, light_});
+  model_.Activate();
+  vtkShaderProgram *p = sweep_quad_->Program;
+  SetVolumeUniforms(p);
+  p->SetUniformf("slPath", (float)g.path);
+  const float shift[2] = {(float)g.shift[0], (float)g.shift[1]};
+  p->SetUniform2f("slShift", shift);
+  const float plane_n[2] = {(float)w, (float)h};
+  p->SetUniform2f("slPlaneN", plane_n);
+  for (int kk = 0; kk < layers; ++kk) {
+    p->SetUniformi("slLayer", kk);
+    p->SetUniformf("slPlaneK", (float)(g.first + kk * g.step));
+    sweep_quad_->Render();
+    light_->Bind();
+    glCopyTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, kk, 0, 0, w, h);
+  }
+  model_.Deactivate();
+  deactivate({fields_, light_});
+  swept_ = true;
+  return true;
+}
+
+bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(renderer_, &in);
+  const int width = camera_.width, height = camera_.height;
+  // Sunlight through the air for this camera.
+  std::vector<double> rows((size_t)SL_SUNLIGHT_TABLE_SIZE * kWavelengths);
+  double z0 = 0.0, dz = 0.0;
+  int night = 0;
+  sl_error err{};
+  if (sl_renderer_sunlight_table(renderer_, &camera_, rows.data(), &z0, &dz, &night, &err))
+    return Fail(err.message);
+  std::vector<float> rowsf(rows.begin(), rows.end());
+  if (!sunlight_) sunlight_ = new_float_texture(win);
+  if (!sunlight_->Create2DFromRaw(SL_SUNLIGHT_TABLE_SIZE, 1, kWavelengths, VTK_FLOAT, rowsf.data()))
+    return Fail("the OpenGL context cannot hold the sunlight table");
+  if (!bind_float_targets(&eye_fbo_, win, width, height, 2)) return Fail("the OpenGL context has no float render targets");
+  if (!ready_quad(&eye_quad_, win, with_physics(sl_shader_volume_eye)))
+    return Fail("the eye pass's shader does not compile on this OpenGL context");
+  vtkOpenGLState *gl = win->GetState();
+  gl->vtkglViewport(0, 0, width, height);
+  gl->vtkglScissor(0, 0, width, height);
+  activate({fields_, light_, sunlight_});
+  model_.Activate();
+  vtkShaderProgram *p = eye_quad_->Program;
+  SetVolumeUniforms(p);
+  // Camera basis as sl__camera_basis builds it, relative to the lattice's first sample.
+  double fwd[3], right[3], up[3], len = 0.0;
+  for (int a = 0; a < 3; ++a) fwd[a] = camera_.target[a] - camera_.position[a], len += fwd[a] * fwd[a];
+  for (double &v : fwd) v /= std::sqrt(len);
+  right[0] = fwd[1] * camera_.up[2] - fwd[2] * camera_.up[1];
+  right[1] = fwd[2] * camera_.up[0] - fwd[0] * camera_.up[2];
+  right[2] = fwd[0] * camera_.up[1] - fwd[1] * camera_.up[0];
+  len = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+  for (double &v : right) v /= len;
+  up[0] = right[1] * fwd[2] - right[2] * fwd[1];
+  up[1] = right[2] * fwd[0] - right[0] * fwd[2];
+  up[2] = right[0] * fwd[1] - right[1] * fwd[0];
+  float eye[3], lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    eye[a] = (float)(camera_.position[a] - in.origin[a]);
+    lo[a] = (float)(in.content_lo[a] - in.origin[a]);
+    hi[a] = (float)(in.content_hi[a] - in.origin[a]);
+  }
+  p->SetUniform3f("slEye", eye);
+  p->SetUniform3f("slFwd", fwd);
+  p->SetUniform3f("slRight", right);
+  p->SetUniform3f("slUp", up);
+  p->SetUniformf("slTanHalf", (float)std::tan(0.5 * camera_.fov_deg * M_PI / 180.0));
+  p->SetUniformf("slAspect", (float)width / height);
+  const float size[2] = {(float)width, (float)height};
+  p->SetUniform2f("slSize", size);
+  p->SetUniform3f("slContentLo", lo);
+  p->SetUniform3f("slContentHi", hi);
+  p->SetUniformf("slAngleInvStep", (float)model_.AngleInvStep());
+  p->SetUniformi("slAngles", model_.Angles());
+  p->SetUniformi("slSunlight", sunlight_->GetTextureUnit());
+  p->SetUniformf("slSunZ0", (float)(z0 - in.origin[2]));
+  p->SetUniformf("slSunDz", (float)dz);
+  p->SetUniformf("slTermination", (float)in.termination_transparency);
+  eye_quad_->Render();
+  model_.Deactivate();
+  deactivate({fields_, light_, sunlight_});
+  // Read the accumulator back: radiance and transparency, then the depth numerator.
+  std::vector<float> color((size_t)width * height * 4), depth((size_t)width * height * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  eye_fbo_->ActivateReadBuffer(0);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, color.data());
+  eye_fbo_->ActivateReadBuffer(1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, depth.data());
+  const int stride = kWavelengths + 2;
+  accumulator_.assign((size_t)width * height * stride, 0.0f);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t src = (size_t)(height - 1 - y) * width + x, dst = ((size_t)y * width + x) * stride;
+      for (int c = 0; c < 4; ++c) accumulator_[dst + c] = color[4 * src + c];
+      accumulator_[dst + 4] = depth[4 * src];
+    }
+  return true;
+}
+
+void GpuVolumePass::Render(const vtkRenderState *s)
+{
+  ok_ = false;
+  error_.clear();
+  this->NumberOfRenderedProps = 0;
+  auto *win = vtkOpenGLRenderWindow::SafeDownCast(s->GetRenderer()->GetRenderWindow());
+  if (!win || !renderer_ || camera_.width <= 0 || camera_.height <= 0) {
+    Fail("no OpenGL render window, renderer or camera");
+    return;
+  }
+  const std::string unsupported = Unsupported(renderer_);
+  if (!unsupported.empty()) {
+    Fail(unsupported);
+    return;
+  }
+  vtkOpenGLState *gl = win->GetState();
+  gl->PushFramebufferBindings();
+  gl->vtkglDisable(GL_BLEND);
+  gl->vtkglDisable(GL_DEPTH_TEST);
+  bool good = true;
+  if (!uploaded_) good = Upload(win);
+  auto t = std::chrono::steady_clock::now();
+  if (good && !swept_) {
+    good = Sweep(win);
+    glFinish();
+    light_seconds_ = seconds_since(t);
+  }
+  t = std::chrono::steady_clock::now();
+  if (good) good = Eye(win);
+  eye_seconds_ = seconds_since(t);
+  gl->PopFramebufferBindings();
+  gl->vtkglEnable(GL_DEPTH_TEST);
+  if (good && glGetError() != GL_NO_ERROR) good = Fail("OpenGL reported an error in the volume pass");
+  ok_ = good;
+}
+
+}  // namespace sl

@@ -1,0 +1,115 @@
+// A vtkRenderPass that draws Stormlight's volume with the multiple-scattering lighting on the
+// GPU: the light volume swept plane by plane along the sun's dominant axis into a float 3D
+// texture (a sun change costs one sweep), then a ray-marched eye pass into float targets. The
+// per-sample physics is render/volume/sl_sample_physics.h, the same text the CPU compiles. The
+// pass reads its eye accumulator back for the CPU's resolve (aerial perspective in front of the
+// volume, which has no GLSL port yet). It owns its GL resources and defines no physics.
+#pragma once
+
+#include <vtkRenderPass.h>
+
+#include <string>
+#include <vector>
+
+#include "sl_renderer.h"
+
+extern "C" {
+#include "lighting.h"  // a C header without C++ guards
+}
+
+class vtkOpenGLFramebufferObject;
+class vtkOpenGLQuadHelper;
+class vtkOpenGLRenderWindow;
+class vtkShaderProgram;
+class vtkTextureObject;
+class vtkWindow;
+
+namespace sl {
+
+// The light model (render/volume/lighting.h) as the shaders read it: the ln-product and F_n
+// rows and the stacked Ams_n tables in float textures, the albedos and orders in uniforms
+// (shaders/volume_model.glsl names them).
+class GpuModelTextures {
+ public:
+  ~GpuModelTextures() { Release(nullptr); }
+  bool Upload(vtkOpenGLRenderWindow *win, const sl_light_model *m, std::string *why);
+  void Activate();
+  void Deactivate();
+  void SetUniforms(vtkShaderProgram *p) const;  // after Activate
+  void Release(vtkWindow *w);
+  int Angles() const { return angles_; }
+  double AngleInvStep() const { return angle_inv_step_; }
+
+ private:
+  const sl_light_model *model_ = nullptr;
+  vtkTextureObject *log_product_ = nullptr, *forward_ = nullptr, *ams_ = nullptr;
+  std::vector<int> ams_row_;
+  int angles_ = 2;
+  double angle_inv_step_ = 0.0;
+};
+
+// A full-screen quad running `fragment` (compiled on first use, readied afterwards); false when
+// the context cannot compile it.
+bool ready_quad(vtkOpenGLQuadHelper **quad, vtkOpenGLRenderWindow *win, const std::string &fragment);
+// Binds *fbo (created on first use) with `targets` float RGBA colour targets of w x h for drawing.
+bool bind_float_targets(vtkOpenGLFramebufferObject **fbo, vtkOpenGLRenderWindow *win, int w, int h, int targets);
+// A float texture with nearest filtering and clamped edges (texelFetch reads it).
+vtkTextureObject *new_float_texture(vtkOpenGLRenderWindow *win);
+
+class GpuVolumePass : public vtkRenderPass {
+ public:
+  static GpuVolumePass *New();
+  vtkTypeMacro(GpuVolumePass, vtkRenderPass);
+
+  // The prepared CPU renderer whose volume, tables and sun the pass draws (not owned). Setting
+  // it again (e.g. after a sun change) re-uploads and re-sweeps.
+  void SetRenderer(const sl_renderer *r);
+  void SetCamera(const sl_camera &cam) { camera_ = cam; }
+  // Sweeps the light volume again on the next frame (what a sun change costs once the renderer
+  // holds the new sun; used by the benchmark).
+  void Resweep() { swept_ = false; }
+
+  void Render(const vtkRenderState *s) override;
+  void ReleaseGraphicsResources(vtkWindow *w) override;
+
+  // Rows from the top, nwl + 2 floats per pixel (sl_renderer_resolve_accumulator's layout).
+  const std::vector<float> &Accumulator() const { return accumulator_; }
+  bool Succeeded() const { return ok_; }
+  const std::string &Error() const { return error_; }
+  double LightSeconds() const { return light_seconds_; }
+  double EyeSeconds() const { return eye_seconds_; }
+
+  // Why this model cannot be drawn on the GPU (empty: it can): wavelengths other than three,
+  // tables on different angular grids.
+  static std::string Unsupported(const sl_renderer *r);
+
+ protected:
+  GpuVolumePass();
+  ~GpuVolumePass() override;
+
+ private:
+  GpuVolumePass(const GpuVolumePass &) = delete;
+  void operator=(const GpuVolumePass &) = delete;
+  bool Upload(vtkOpenGLRenderWindow *win);
+  bool Sweep(vtkOpenGLRenderWindow *win);
+  bool Eye(vtkOpenGLRenderWindow *win);
+  bool Fail(const std::string &why);
+  void SetVolumeUniforms(vtkShaderProgram *p);
+
+  const sl_renderer *renderer_ = nullptr;
+  sl_camera camera_{};
+  bool uploaded_ = false, swept_ = false, ok_ = false;
+  std::string error_;
+  std::vector<float> accumulator_;
+  double light_seconds_ = 0.0, eye_seconds_ = 0.0;
+  GpuModelTextures model_;
+  vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
+  vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr;
+  vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr;
+};
+
+// The GLSL text of the shared per-sample physics with the GPU model's accessors in front, as
+// the pass compiles it (for tests that evaluate the shared functions on the GPU).
+std::string gpu_physics_prelude();
+
+}  // namespace sl

@@ -1,0 +1,45 @@
+/* What a GPU pass needs from a prepared CPU renderer to draw the same model: the lattice and
+ * the per-field extinction, the light model (tables), the content box, the sunlight table for a
+ * camera, and the CPU's own resolve of an eye accumulator (aerial perspective in front of the
+ * volume, spectral-to-RGB). The GPU draws with the light volume's method (light_volume.c):
+ * a sweep of the light state along the sun's dominant grid axis, then a ray-marched eye pass. */
+#ifndef SL_RENDERER_GPU_H
+#define SL_RENDERER_GPU_H
+
+#include "sl_renderer.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+#include "lighting.h" /* a C header without C++ guards */
+
+#define SL_SUNLIGHT_TABLE_SIZE 257
+
+typedef struct sl_renderer_gpu_inputs {
+  const sl_light_model *model;
+  int n[3];
+  double origin[3], spacing[3];    /* the lattice: sample (i,j,k) sits at origin + (i,j,k) spacing */
+  const float *fields;             /* extinction per present field, model->nf per sample, x fastest, m^-1 */
+  double content_lo[3], content_hi[3], content_center[3];
+  double sun_direction[3];        /* unit, toward the sun */
+  double termination_transparency;
+  int any_extinction;
+} sl_renderer_gpu_inputs;
+
+void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *out);
+
+/* Sunlight reaching heights z0 + i dz (i < SL_SUNLIGHT_TABLE_SIZE) through the air for this
+ * camera's view of the sky (eq. 12), rows of model->nwl values; *night set when the sun is down. */
+int sl_renderer_sunlight_table(const sl_renderer *r, const sl_camera *cam, double *rows, double *z0, double *dz,
+                               int *night, sl_error *err);
+
+/* The eye accumulator of a frame (rows from the top, `stride` floats per pixel: radiance per
+ * wavelength, transparency toward the eye, opacity-weighted depth numerator) resolved into the
+ * volume layer exactly as the CPU's light-volume pass resolves its own. */
+int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, const float *acc, int stride,
+                                    sl_image *img, sl_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,228 @@
+/* The per-sample physics of the volume renderer, written once in a subset of C11 that also
+ * compiles as GLSL 1.50: the light step of Riley et al. 2004 (eqs. 21, 24, 25), the eye
+ * gather's angular term (eq. 26) with its table look-ups, and the closed-form single-scattering
+ * moments of one eye segment. The CPU renderer (lighting.c, C) and the GPU pass (shaders/,
+ * embedded text of this very file) call the same functions, so they cannot drift apart
+ * (tests/gpu checks the embedded text against this file and the GLSL results against C).
+ *
+ * The subset: no pointers, no structs, no double-only library calls (sl_exp, sl_log, ... map to
+ * the float or double versions), arrays only as fixed-size parameters (SL_IN_ARRAY /
+ * SL_OUT_ARRAY), integer casts through SL_INT, no literal suffixes, no const locals (GLSL wants
+ * constant initializers there), no GLSL keywords as names (in, out, sample, input, ...). The
+ * particle model (tables, albedos, xi) is reached through accessor macros: fields of sl_light_model in C, uniforms and
+ * texelFetch in GLSL (shaders/volume_model.glsl defines those before including this file). */
+#ifndef SL_SAMPLE_PHYSICS_H
+#define SL_SAMPLE_PHYSICS_H
+
+#ifndef SL_GLSL
+/* ---- C ---- */
+#include <math.h>
+
+#include "lighting.h"
+
+#ifndef SL_REAL
+#define SL_REAL double
+#endif
+#ifdef SL_REAL_IS_FLOAT
+#define sl_exp expf
+#define sl_log logf
+#define sl_floor floorf
+#define sl_ceil ceilf
+#define sl_pow powf
+#else
+#define sl_exp exp
+#define sl_log log
+#define sl_floor floor
+#define sl_ceil ceil
+#define sl_pow pow
+#endif
+#define SL_INLINE static inline
+#define SL_INT(x) ((int)(x))
+#define SL_TO_REAL(x) ((SL_REAL)(x))
+#define SL_IN_ARRAY(T, name, n) const T name[n]
+#define SL_OUT_ARRAY(T, name, n) T name[n]
+/* The model: one pointer in C, uniforms in GLSL. */
+#define SL_MODEL_PARAM const sl_light_model *m,
+#define SL_MODEL_ARG m,
+#define SL_NF (m->nf)
+#define SL_NWL (m->nwl)
+#define SL_MODE (m->mode)
+#define SL_XI (m->xi)
+#define SL_ALBEDO_MEAN(j) (m->albedo_mean[j])
+#define SL_ALBEDO(j, c) (m->albedo[j][c])
+#define SL_MAX_ORDER(j, c) (m->max_order[j][c])
+#define SL_LOG_PRODUCT(j, c, k) (m->log_product[j][c][k])
+#define SL_FORWARD(j, c, k) (m->table[j][c]->forward[k])
+#define SL_AMS(j, c, k, i) (m->table[j][c]->ams[(size_t)(k) * (size_t)m->table[j][c]->n_angles + (size_t)(i)])
+#define SL_MODE_LOW_ALBEDO SL_LIGHTING_LOW_ALBEDO
+#define SL_MODE_EQ25 SL_LIGHTING_MULTIPLE_EQ25
+#define SL_PI 3.14159265358979323846
+#else
+/* ---- GLSL: the includer defines SL_MAX_FIELDS, SL_MAX_WAVELENGTHS and the model accessors
+ * (SL_NF ... SL_AMS, SL_MODE_*) first. ---- */
+#define SL_REAL float
+#define sl_exp exp
+#define sl_log log
+#define sl_floor floor
+#define sl_ceil ceil
+#define sl_pow pow
+#define SL_INLINE
+#define SL_INT(x) int(x)
+#define SL_TO_REAL(x) float(x)
+#define SL_IN_ARRAY(T, name, n) in T name[n]
+#define SL_OUT_ARRAY(T, name, n) out T name[n]
+#define SL_MODEL_PARAM
+#define SL_MODEL_ARG
+#define SL_PI 3.14159265358979323846
+#endif
+
+/* Scattering events per metre of the particle mix: sum_j albedo_j beta_j, the rate at which the
+ * expected scattering count grows along the sunlight (eq. 21). */
+SL_INLINE SL_REAL sl_scattering_per_metre(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS))
+{
+  SL_REAL total = 0.0;
+  for (int j = 0; j < SL_NF; ++j) total += SL_ALBEDO_MEAN(j) * beta[j];
+  return total;
+}
+
+/* Riley et al. 2004, eq. 21: the expected scattering count after a path len through the sample. */
+SL_INLINE SL_REAL sl_expected_scatter_count(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n,
+                                            SL_REAL len)
+{
+  return n + sl_scattering_per_metre(SL_MODEL_ARG beta) * len;
+}
+
+/* sum_{i=1..x} ln(albedo F_i) of field j at wavelength c, for a real number of events x >= 0:
+ * linear between integers; past the table's last order N each event adds ln(albedo F_N). */
+SL_INLINE SL_REAL sl_log_product_at(SL_MODEL_PARAM int j, int c, SL_REAL x)
+{
+  int N = SL_MAX_ORDER(j, c);
+  if (x >= SL_TO_REAL(N)) {
+    SL_REAL last = SL_LOG_PRODUCT(j, c, N);
+    return last + (x - SL_TO_REAL(N)) * (last - SL_LOG_PRODUCT(j, c, N - 1));
+  }
+  int k = SL_INT(x);
+  SL_REAL lo = SL_LOG_PRODUCT(j, c, k);
+  return lo + (x - SL_TO_REAL(k)) * (SL_LOG_PRODUCT(j, c, k + 1) - lo);
+}
+
+/* Riley et al. 2004, eq. 24: ln prod_{i=n+1}^{n+events} albedo F_i of field j at wavelength c,
+ * continuous in n and events (the interpolation in n that eq. 25 replaced). */
+SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL n, SL_REAL events)
+{
+  return sl_log_product_at(SL_MODEL_ARG j, c, n + events) - sl_log_product_at(SL_MODEL_ARG j, c, n);
+}
+
+/* The fraction of the light per wavelength left after a path len through a sample of extinction
+ * beta[j] per field (m^-1) that the light reaches having scattered n times on average: eq. 24
+ * (taken continuously) or eq. 25 by the model's mode; the plain transparency for the low-albedo
+ * model. */
+SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, SL_REAL len,
+                                    SL_OUT_ARRAY(SL_REAL, fraction, SL_MAX_WAVELENGTHS))
+{
+  SL_REAL ext = 0.0;
+  for (int j = 0; j < SL_NF; ++j) ext += beta[j];
+  SL_REAL transparency = sl_exp(-ext * len);
+  SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
+  SL_REAL events = rate * len;
+  SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0; /* each field's share is albedo_j beta_j / rate */
+  for (int c = 0; c < SL_NWL; ++c) {
+    if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
+      fraction[c] = transparency;
+      continue;
+    }
+    SL_REAL kept;
+    if (SL_MODE == SL_MODE_EQ25) {
+      /* Riley et al. 2004, eq. 25: the worst-case order's forward fraction to the power of the
+       * slab's scattering count (the paper's GPU workaround). */
+      int order = SL_INT(sl_floor(n + 1.0 + events));
+      SL_REAL f = 0.0, a = 0.0;
+      for (int j = 0; j < SL_NF; ++j) {
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
+        int N = SL_MAX_ORDER(j, c);
+        f += share * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
+        a += share * SL_ALBEDO(j, c);
+      }
+      kept = sl_pow(a * f, events);
+    } else {
+      /* Eq. 24 with a mix: each field's product weighted geometrically by its share of the
+       * events (exact for one field; a mix along a path has no exact per-field split). */
+      SL_REAL log_kept = 0.0;
+      for (int j = 0; j < SL_NF; ++j) {
+        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
+        if (share > 0.0) log_kept += share * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
+      }
+      kept = sl_exp(log_kept);
+    }
+    /* Eq. 24: what passes unscattered, plus the scattered part that stays in the forward
+     * hemisphere through every event of the slab. */
+    fraction[c] = transparency + (1.0 - transparency) * kept;
+  }
+}
+
+/* Riley et al. 2004, eq. 26's angular term per wavelength at a sample whose light has scattered
+ * n times: the fields' Ams_{n+1} (linear in n) plus xi, weighted by each field's scattering
+ * coefficient (eq. 6): result[c] = sum_j albedo_j,c beta_j (Ams_j,c(n+1) + xi), m^-1 sr^-1. The
+ * scattering angle comes as the angular grid's index and weight (fixed along a ray). */
+SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, int angle_index,
+                               SL_REAL angle_weight, SL_OUT_ARRAY(SL_REAL, result, SL_MAX_WAVELENGTHS))
+{
+  if (SL_MODE == SL_MODE_LOW_ALBEDO) {
+    SL_REAL isotropic = sl_scattering_per_metre(SL_MODEL_ARG beta) / (4.0 * SL_PI);
+    for (int c = 0; c < SL_NWL; ++c) result[c] = isotropic;
+    return;
+  }
+  /* The event that sends the light to the eye is the (n+1)-th. */
+  SL_REAL order = n + 1.0;
+  int k = SL_INT(sl_floor(order));
+  SL_REAL f = order - SL_TO_REAL(k);
+  for (int c = 0; c < SL_NWL; ++c) {
+    SL_REAL sum = 0.0;
+    for (int j = 0; j < SL_NF; ++j) {
+      if (!(beta[j] > 0.0)) continue;
+      int N = SL_MAX_ORDER(j, c);
+      int k0 = k > N ? N : k, k1 = k + 1 > N ? N : k + 1;
+      SL_REAL a00 = SL_AMS(j, c, k0, angle_index), a01 = SL_AMS(j, c, k0, angle_index + 1);
+      SL_REAL a10 = SL_AMS(j, c, k1, angle_index), a11 = SL_AMS(j, c, k1, angle_index + 1);
+      SL_REAL a0 = a00 + angle_weight * (a01 - a00);
+      SL_REAL a1 = a10 + angle_weight * (a11 - a10);
+      sum += SL_ALBEDO(j, c) * beta[j] * ((1.0 - f) * a0 + f * a1 + SL_XI);
+    }
+    result[c] = sum;
+  }
+}
+
+/* Steps of at most max_step that cover a ray's span through the volume. A span of a whole number
+ * of steps (a ray entering and leaving through opposite faces of the box, whose size is a whole
+ * number of grid cells) must not gain a step from the last bit of rounding: which way ceil goes
+ * there flips from pixel to pixel, and at cloud edges a step more or less moves every sample
+ * by up to half a step (measured: 12 % of an edge pixel's optical depth), which shows as speckle
+ * and differs between float and double. */
+SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
+{
+  return SL_INT(sl_ceil(span / max_step - 1e-3));
+}
+
+/* Single scattering over one eye segment of length len with constant extinction beta, when the
+ * light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u) on top of
+ * the eye's exp(-beta u): result[0] = beta int_0^len exp(-beta rate u) du and
+ * result[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
+ * constant along the segment and one that grows linearly from 0 to 1. rate may be <= 0. */
+SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, result, 2))
+{
+  SL_REAL x = beta * rate * len;
+  if (x > -0.25 && x < 0.25) {
+    /* Taylor series to x^6 (truncation below 2e-9): the closed form of result[1] cancels to second
+     * order near x = 0, which in float costs 1e-3 of relative accuracy already at x = 1e-2. */
+    result[0] = beta * len *
+             (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x * (1.0 / 720.0 - x / 5040.0))))));
+    result[1] = beta * len *
+             (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x / 5760.0))))));
+    return;
+  }
+  SL_REAL e = sl_exp(-x);
+  result[0] = beta * len * (1.0 - e) / x;
+  result[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
+}
+
+#endif

@@ -1,0 +1,94 @@
+//VTK::System::Dec
+// Stormlight: the eye pass over the light volume (render/volume/light_volume.c's ray march on the
+// GPU): two samples per grid cell along each pixel's ray through the content box, the closed-form
+// gather of eq. 26 between samples, front-to-back. Writes the accumulator the CPU resolves:
+// radiance per wavelength and the transparency, then the opacity-weighted depth numerator.
+//SL::Physics
+uniform vec3 slEye;            // camera position relative to the lattice's sample (0,0,0)
+uniform vec3 slFwd, slRight, slUp;
+uniform float slTanHalf, slAspect;
+uniform vec2 slSize;
+uniform vec3 slContentLo, slContentHi;
+uniform vec3 slSun;            // unit vector toward the sun
+uniform float slAngleInvStep;  // the Ams tables' angular grid
+uniform int slAngles;
+uniform sampler2D slSunlight;  // sunlight at heights slSunZ0 + i slSunDz, i < 257
+uniform float slSunZ0, slSunDz;
+uniform float slTermination;
+in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
+//VTK::Output::Dec
+
+vec3 slSunlightAt(float z)
+{
+  float u = slSunDz > 0.0 ? (z - slSunZ0) / slSunDz : 0.0;
+  u = clamp(u, 0.0, 256.0);
+  int i = min(int(u), 255);
+  float f = u - float(i);
+  vec3 a = texelFetch(slSunlight, ivec2(i, 0), 0).rgb, b = texelFetch(slSunlight, ivec2(i + 1, 0), 0).rgb;
+  return a + f * (b - a);
+}
+
+void main()
+{
+  if (texCoord.x < -1.0) discard;
+  float px = floor(gl_FragCoord.x), py = slSize.y - 1.0 - floor(gl_FragCoord.y); // rows from the top
+  float sx = (2.0 * (px + 0.5) / slSize.x - 1.0) * slTanHalf * slAspect;
+  float sy = (1.0 - 2.0 * (py + 0.5) / slSize.y) * slTanHalf;
+  vec3 d = normalize(slFwd + sx * slRight + sy * slUp);
+  vec3 radiance = vec3(0.0);
+  float T = 1.0, depth = 0.0;
+  // Slab intersection with the content box (sl_ray_box).
+  float t0 = -3.0e38, t1 = 3.0e38;
+  bool hit = true;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (slEye[a] < slContentLo[a] || slEye[a] > slContentHi[a]) hit = false;
+      continue;
+    }
+    float ta = (slContentLo[a] - slEye[a]) / d[a], tb = (slContentHi[a] - slEye[a]) / d[a];
+    t0 = max(t0, min(ta, tb));
+    t1 = min(t1, max(ta, tb));
+  }
+  hit = hit && t1 > t0 && t1 > 0.0;
+  t0 = max(t0, 0.0);
+  if (hit) {
+    int angleIndex = 0;
+    float angleWeight = 0.0;
+    if (slMode != SL_MODE_LOW_ALBEDO && slNf > 0) {
+      // atan2 keeps the angle accurate next to 0 and 180 degrees, where float acos does not.
+      float u = atan(length(cross(slSun, d)), dot(slSun, d)) * slAngleInvStep;
+      angleIndex = min(int(u), slAngles - 2);
+      angleWeight = min(u - float(angleIndex), 1.0);
+    }
+    float dt = 3.0e38;
+    for (int a = 0; a < 3; ++a)
+      if (abs(d[a]) > 1e-12) dt = min(dt, 0.5 * slSpacing[a] / abs(d[a]));
+    int nsteps = sl_march_steps(t1 - t0, dt);
+    dt = (t1 - t0) / float(max(nsteps, 1));
+    vec4 l0 = slSampleLight(slEye + t0 * d);
+    for (int s = 0; s < nsteps && T >= slTermination; ++s) {
+      float ta = t0 + float(s) * dt, tm = ta + 0.5 * dt, tb = ta + dt;
+      vec3 x = slEye + tm * d;
+      float beta[SL_MAX_FIELDS];
+      slSampleFields(x, beta);
+      float b = 0.0;
+      for (int j = 0; j < SL_MAX_FIELDS; ++j) b += beta[j];
+      vec4 l1 = slSampleLight(slEye + tb * d);
+      if (!(b > 0.0)) {
+        l0 = l1;
+        continue;
+      }
+      float phase[SL_MAX_WAVELENGTHS], moments[2];
+      sl_eye_phase_at(beta, 0.5 * (l0.a + l1.a), angleIndex, angleWeight, phase);
+      sl_segment_scatter_moments(b, dt, 1.0, moments);
+      vec3 gathered = l0.rgb * moments[0] + (l1.rgb - l0.rgb) * moments[1];
+      radiance += T * gathered * vec3(phase[0], phase[1], phase[2]) / b * slSunlightAt(x.z);
+      float opacity = 1.0 - exp(-b * dt);
+      depth += T * opacity * tm * dot(d, slFwd);
+      T *= exp(-b * dt);
+      l0 = l1;
+    }
+  }
+  gl_FragData[0] = vec4(radiance, T);
+  gl_FragData[1] = vec4(depth, 0.0, 0.0, 1.0);
+}
