@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "sl_sky.h"
+#include "sl_series.h"
 #include "sl_storm.h"
 
 bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
@@ -14,50 +15,37 @@ namespace sl {
 
 bool series_build(const std::vector<std::string> &files, std::vector<SeriesFrame> *series, std::string *error)
 {
+  // io/ orders the files' times (and expands glob patterns); the app adds the Julian day.
   series->clear();
-  std::unique_ptr<sl_storm_info> info(new sl_storm_info);
-  bool all_timed = true;
-  for (const std::string &file : files) {
-    sl_error err{};
-    if (sl_storm_read_info(file.c_str(), info.get(), &err) != SL_OK) {
-      *error = err.message;
-      return false;
-    }
-    if (info->ntimes < 1) {
-      *error = file + ": the file has no time records";
-      return false;
-    }
-    for (int t = 0; t < info->ntimes && t < SL_MAX_TIMES; ++t) {
-      SeriesFrame f;
-      f.file = file;
-      f.time_index = t;
-      if (info->has_times) {
-        f.time = info->times[t];
-        std::string iso = f.time, why;
-        for (char &ch : iso)
-          if (ch == '_') ch = 'T';
-        sl_utc utc{};
-        if (!sl_parse_iso8601_utc(iso + "Z", &utc, &why)) {
-          *error = file + ": time '" + f.time + "' is not a date-time";
-          return false;
-        }
-        f.julian_day = sl_julian_day(&utc);
-      } else {
-        all_timed = false;
-      }
-      series->push_back(f);
-    }
+  std::vector<const char *> paths;
+  for (const std::string &f : files) paths.push_back(f.c_str());
+  sl_series s{};
+  sl_error err{};
+  if (sl_series_open(paths.data(), (int)paths.size(), &s, &err) != SL_OK) {
+    *error = err.message;
+    return false;
   }
-  if (!all_timed) return true;
-  std::stable_sort(series->begin(), series->end(),
-                   [](const SeriesFrame &a, const SeriesFrame &b) { return a.julian_day < b.julian_day; });
-  for (size_t i = 1; i < series->size(); ++i)
-    if ((*series)[i].time == (*series)[i - 1].time) {
-      *error = (*series)[i].file + ": time " + (*series)[i].time + " is also in " + (*series)[i - 1].file +
-               " (a series holds each time once)";
-      return false;
+  bool ok = true;
+  for (int i = 0; i < s.count && ok; ++i) {
+    SeriesFrame f;
+    f.file = s.frames[i].path;
+    f.time_index = s.frames[i].time_index;
+    f.time = s.frames[i].time;
+    if (!f.time.empty()) {
+      std::string iso = f.time, why;
+      for (char &ch : iso)
+        if (ch == '_') ch = 'T';
+      sl_utc utc{};
+      if (!sl_parse_iso8601_utc(iso + "Z", &utc, &why)) {
+        *error = f.file + ": time '" + f.time + "' is not a date-time";
+        ok = false;
+      }
+      f.julian_day = sl_julian_day(&utc);
     }
-  return true;
+    series->push_back(f);
+  }
+  sl_series_free(&s);
+  return ok;
 }
 
 namespace {

@@ -1,6 +1,5 @@
 // A time series of storm frames over one or more files: which file and time index each frame
-// comes from, in time order. App-side until io/ opens a list or glob of files as one series;
-// the rest of the app sees only this interface, so the swap stays in series.cpp.
+// comes from, in time order (io/sl_series.h orders them; this adds what the app needs).
 #pragma once
 
 #include <string>
@@ -15,9 +14,9 @@ struct SeriesFrame {
   double julian_day = 0; // UT, when time is set
 };
 
-// Every time of every file, in time order (by the files' own times when all have them, else in
-// the order given, each file's times in order). Fails with one line naming the file for an
-// unreadable file, a file with no time records, or the same time in two places.
+// Every time of every file (glob patterns expanded), in time order (by the files' own times when
+// all have them, else in the order given, each file's times in order). Fails with one line naming
+// the file for an unreadable file, a file with no time records, or the same time in two places.
 bool series_build(const std::vector<std::string> &files, std::vector<SeriesFrame> *series, std::string *error);
 
 // The frames chosen by --times: "all" or a Python-like slice "I:J:K" (J exclusive; each part may
