@@ -786,6 +786,7 @@ void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg,
   cam->fov_deg = fov_deg;
   cam->width = width;
   cam->height = height;
+  cam->opaque_distance = NULL; /* nothing opaque in front of the volume unless the caller says so */
 }
 
 int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
