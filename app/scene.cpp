@@ -1,5 +1,4 @@
 #include "scene.h"
-#include "terrain_scene.h"
 
 #include <cjson/cJSON.h>
 
@@ -20,6 +19,20 @@ std::string number_text(double v)
 }
 
 }  // namespace
+
+// The scene around the storm (app/terrain_scene.*): declared here with the scene's other options
+// so that the option list (and the scene-key check) needs no VTK or GMT.
+void declare_map_options(Options &o)
+{
+  o.flag("terrain", "draw the terrain (HGT) as a lit surface: eye rays stop at it, the storm shadows it");
+  o.option("terrain-albedo", "A", "terrain albedo (default: the file's ALBEDO, else land 0.15, water 0.06)");
+  o.flag("coastlines", "draw GSHHG coastlines (GMT) draped on the terrain");
+  o.flag("borders", "draw national borders (GSHHG/WDBII through GMT) draped on the terrain");
+  o.flag("graticule", "draw a latitude/longitude graticule");
+  o.option("graticule-step", "DEG", "graticule spacing in degrees (0 = 3 to 8 lines across the domain)", "0");
+  o.flag("domain-outline", "draw the outline of the model domain");
+  o.flag("scale-bar", "draw a scale bar in the domain's south-west corner");
+}
 
 void declare_render_options(Options &o)
 {
@@ -61,7 +74,7 @@ void declare_render_options(Options &o)
   o.option("dz", "M", "vertical spacing of the uniform grid (0 = half the mean model layer)", "0");
   o.flag("float", "write 32-bit float EXR channels instead of half");
   declare_load_options(o);
-  declare_map_options(o);  // the scene around the storm: terrain and map layers (terrain_scene.h)
+  declare_map_options(o);  // the scene around the storm: terrain and map layers
 }
 
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error)

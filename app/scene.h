@@ -13,6 +13,8 @@ namespace sl {
 // conveniences): one list for render, for the reference's reading of render scenes, and for the
 // check of scene keys.
 void declare_render_options(Options &o);
+// The terrain and map-layer options (read by read_map_options, app/terrain_scene.h).
+void declare_map_options(Options &o);
 
 // Reads a scene file into render arguments: "data" becomes the positional FILE (relative paths
 // are taken relative to the scene file's folder), every other key "--key value" (booleans

@@ -26,8 +26,7 @@ struct MapLayers {
   bool any() const { return terrain || coastlines || borders || graticule || outline || scale_bar; }
 };
 
-// Declares the scene's layer options (app/scene.cpp calls it from declare_render_options).
-void declare_map_options(Options &o);
+// The layer options are declared by declare_map_options (app/scene.h), with the scene's others.
 // Reads them; false with a one-line error.
 bool read_map_options(Options &o, MapLayers *layers, std::string *error);
 
