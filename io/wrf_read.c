@@ -96,6 +96,13 @@ static int dim_length(const sl_nc *f, const char *name, int *len, sl_error *err)
 
 /* WRF's projections (MAP_PROJ): 0 idealised (no projection), 1 Lambert conformal, 2 polar
  * stereographic, 3 Mercator, 6 latitude-longitude (rotated or not). */
+/* An integer code held in a floating attribute (MAP_PROJ, MP_PHYSICS): -1 when it is not finite
+ * or out of int range (a fuzzed or corrupt file must not make the cast undefined). */
+static int attr_code(double v)
+{
+  return isfinite(v) && v > -1e6 && v < 1e6 ? (int)v : -1;
+}
+
 static int map_proj_supported(int map_proj) { return map_proj == 0 || map_proj == 1 || map_proj == 2 || map_proj == 3 || map_proj == 6; }
 
 static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
@@ -113,18 +120,19 @@ static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   info->dy = sl_nc_attr_double(f, NC_GLOBAL, "DY", NAN);
   if (!(info->dx > 0.0 && info->dx < 1e6) || !(info->dy > 0.0 && info->dy < 1e6))
     return sl_fail(err, SL_ERR_FORMAT, "%s: missing or absurd grid spacing attributes DX/DY", path);
-  info->map_proj = (int)sl_nc_attr_double(f, NC_GLOBAL, "MAP_PROJ", 0);
-  if (!map_proj_supported(info->map_proj))
+  const double map_proj = sl_nc_attr_double(f, NC_GLOBAL, "MAP_PROJ", 0);
+  info->map_proj = attr_code(map_proj);
+  if (!map_proj_supported(info->map_proj) || info->map_proj != map_proj)
     return sl_fail(err, SL_ERR_FORMAT,
-                   "%s: unsupported map projection MAP_PROJ=%d (supported: 1 Lambert conformal, 2 polar "
+                   "%s: unsupported map projection MAP_PROJ=%g (supported: 1 Lambert conformal, 2 polar "
                    "stereographic, 3 Mercator, 6 latitude-longitude)",
-                   path, info->map_proj);
+                   path, map_proj);
   info->truelat1 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT1", NAN);
   info->truelat2 = sl_nc_attr_double(f, NC_GLOBAL, "TRUELAT2", NAN);
   info->stand_lon = sl_nc_attr_double(f, NC_GLOBAL, "STAND_LON", NAN);
   info->pole_lat = sl_nc_attr_double(f, NC_GLOBAL, "POLE_LAT", 90.0);
   info->pole_lon = sl_nc_attr_double(f, NC_GLOBAL, "POLE_LON", 0.0);
-  info->mp_physics = (int)sl_nc_attr_double(f, NC_GLOBAL, "MP_PHYSICS", -1);
+  info->mp_physics = attr_code(sl_nc_attr_double(f, NC_GLOBAL, "MP_PHYSICS", -1));
   sl_species_wrf(f, info->mp_physics, info);
 
   /* Times(Time, <string dim>): the string dimension's name varies between writers. */

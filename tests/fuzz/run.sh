@@ -24,6 +24,8 @@ cmake --build $build -j"$(nproc)" --target fuzz_reader fuzz_scene >/dev/null
 corpus=$build/corpus
 rm -rf "$corpus" && mkdir -p "$corpus/reader" "$corpus/scene"
 for i in 1 2 3 4; do head -c 2048 /dev/urandom >"$corpus/reader/random$i"; done
+# Inputs that once failed (tests/fuzz/regressions) run first, every time.
+cp tests/fuzz/regressions/reader-* "$corpus/reader/"
 cp datasets/scenes/*.json "$corpus/scene/"
 
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1:max_allocation_size_mb=1536
