@@ -17,9 +17,10 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
                           double eta)
 {
   if (eta == 0.0 || b <= a) return;
-  int k0 = (int)floor((a - ground) / dz), k1 = (int)floor((b - ground) / dz);
-  if (k0 < 0) k0 = 0;
-  if (k1 > nzo - 1) k1 = nzo - 1;
+  /* Clamped as doubles: a corrupt height far outside the grid must not overflow the int cast. */
+  const double u0 = floor((a - ground) / dz), u1 = floor((b - ground) / dz);
+  const int k0 = u0 < 0.0 ? 0 : u0 > nzo - 1 ? nzo - 1 : (int)u0;
+  const int k1 = u1 < 0.0 ? -1 : u1 > nzo - 1 ? nzo - 1 : (int)u1;
   for (int k = k0; k <= k1; ++k) {
     const double z0 = ground + k * dz, z1 = z0 + dz;
     const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
@@ -33,10 +34,13 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
 {
   const int nx = s->nx, ny = s->ny, nz = s->nz;
   const size_t n2 = (size_t)nx * ny, n3 = n2 * nz;
-  int nzo = (int)ceil((top - ground) / dz);
-  if (nzo < 1) nzo = 1;
-  if (nzo > 4096)
-    return sl_fail(err, SL_ERR_ARG, "%s: vertical spacing %g m gives %d levels, more than 4096", path, dz, nzo);
+  const double levels = ceil((top - ground) / dz);
+  if (!isfinite(levels))
+    return sl_fail(err, SL_ERR_DATA, "%s: the grid's bottom (%g m), top (%g m) or spacing (%g m) is not finite", path,
+                   ground, top, dz);
+  if (levels > 4096)
+    return sl_fail(err, SL_ERR_ARG, "%s: vertical spacing %g m gives %.0f levels, more than 4096", path, dz, levels);
+  const int nzo = levels < 1.0 ? 1 : (int)levels;
   int moist = 0, number = 0;
   for (int i = 0; i < nspecies; ++i) moist |= species[i].per_moist_air, number |= species[i].number_variable[0] != 0;
   /* Held for the whole load: interface heights (double: the remap's conservation rests on them),

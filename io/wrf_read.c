@@ -418,7 +418,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   }
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
   const double nzo = ceil((top - ground) / dz);
-  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)nzo : 1,
+  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1,
                                          sl_species_type_count(species, nspecies));
   if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
   /* Georeferencing (io/georef.c) on the whole grid: this time's XLAT/XLONG place it, so a moving
