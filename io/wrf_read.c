@@ -462,24 +462,17 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground - max_drop, top, dz, spacing_h, corner_xy, drop,
                             frame, err)))
     goto done;
-  /* The centre column's latitude and longitude (placement of the grid on the earth). */
-  sl_subset centre = {s.i0 + (s.nx / 2) * s.stride, s.j0 + (s.ny / 2) * s.stride, 1, 1, 1, 0, 0};
-  double lat, lon;
-  if ((rc = sl_nc_read_slab(f, &xlat, t, -1, &centre, &lat, err)) ||
-      (rc = sl_nc_read_slab(f, &xlong, t, -1, &centre, &lon, err)))
-    goto done;
-  frame->center_lat = lat;
-  frame->center_lon = lon;
-  /* The whole grid's centre lies between columns when a count is even: the georeference has it. */
-  if (s.stride == 1 && s.nx == info->nx && s.ny == info->ny) {
-    frame->center_lat = geo->center_lat;
-    frame->center_lon = geo->center_lon;
-  }
+  if ((rc = keep_columns(frame, &w, l2, &hgt, &xlat, &xlong, a, err))) goto done;
+  /* Where the grid sits on the earth: the whole grid's centre (between columns when a count is
+   * even) from the georeference, a subset's centre column from its own latitudes/longitudes. */
+  const size_t centre = (size_t)(s.ny / 2) * s.nx + s.nx / 2;
+  const int whole_grid = s.stride == 1 && s.nx == info->nx && s.ny == info->ny;
+  frame->center_lat = whole_grid ? geo->center_lat : frame->column_lat[centre];
+  frame->center_lon = whole_grid ? geo->center_lon : frame->column_lon[centre];
   frame->terrain_min = ground;
   frame->terrain_max = hmax;
   frame->model_top = top;
   frame->time_index = t;
-  rc = keep_columns(frame, &w, l2, &hgt, &xlat, &xlong, a, err);
 done:
   free(a);
   free(b);
