@@ -19,6 +19,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "composite_pass.h"
+#include "render_scene.h"
 #include "render_series.h"
 #include "gpu_render.h"
 #include "scene.h"
@@ -228,29 +229,13 @@ static int render_main(int argc, char **argv)
   // The sun: given angles, or the solar position for --date or the file's own time.
   std::string sun_note;
   if (!o.has("sun-azimuth")) {
-    if (!o.has("date")) {
-      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
-      std::string why;
-      if (sl_storm_read_info(path.c_str(), info.get(), &err) == SL_OK && info->has_times) {
-        std::string t = info->times[time_index];
-        for (char &ch : t)
-          if (ch == '_') ch = 'T';
-        if (!sl_parse_iso8601_utc(t + "Z", &date, &why)) {
-          sl_storm_frame_free(&frame);
-          return sl::fail(cmd, path + ": time '" + info->times[time_index] + "' is not a date-time: " + why);
-        }
-      } else {
-        sl_storm_frame_free(&frame);
-        return sl::fail(cmd, path + ": the file has no times: give --date or --sun-azimuth/--sun-elevation", 2);
-      }
-    }
-    sl_solar_position pos;
-    if (sl_solar_position_compute(&date, frame.center_lat, frame.center_lon, nullptr, &pos, &err)) {
+    std::string why;
+    bool no_times = false;
+    if (!sl::frame_solar_position(path, time_index, frame, o.has("date") ? &date : nullptr, &sun_el, &sun_az, &date,
+                                  &no_times, &why)) {
       sl_storm_frame_free(&frame);
-      return sl::fail(cmd, err.message);
+      return sl::fail(cmd, why, no_times ? 2 : 1);
     }
-    sun_az = pos.azimuth_deg;
-    sun_el = pos.elevation_deg;
     char note[160];
     std::snprintf(note, sizeof note, "sun at %04d-%02d-%02d %02d:%02d UTC over %.2f N %.2f E: elevation %.2f, azimuth %.2f",
                   date.year, date.month, date.day, date.hour, date.minute, frame.center_lat, frame.center_lon, sun_el,

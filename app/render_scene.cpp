@@ -48,21 +48,11 @@ bool load_render_scene(const std::string &path, const std::vector<std::string> &
       return failed(o.error());
   } else {
     sl_utc date{};
-    if (o.has("date")) {
-      if (!sl_parse_iso8601_utc(o.str("date"), &date, why)) return failed("date: " + *why);
-    } else {
-      std::unique_ptr<sl_storm_info> info(new sl_storm_info);
-      if (sl_storm_read_info(s->data.c_str(), info.get(), &err) || !info->has_times)
-        return failed(s->data + ": the file has no times: give sun-azimuth/sun-elevation or date");
-      std::string t = info->times[s->time_index];
-      for (char &ch : t)
-        if (ch == '_') ch = 'T';
-      if (!sl_parse_iso8601_utc(t + "Z", &date, why)) return failed(s->data + ": time is not a date-time: " + *why);
-    }
-    sl_solar_position pos;
-    if (sl_solar_position_compute(&date, s->frame.center_lat, s->frame.center_lon, nullptr, &pos, &err))
-      return failed(err.message);
-    s->sun_elevation_deg = pos.elevation_deg, s->sun_azimuth_deg = pos.azimuth_deg;
+    if (o.has("date") && !sl_parse_iso8601_utc(o.str("date"), &date, why)) return failed("date: " + *why);
+    bool no_times = false;
+    if (!frame_solar_position(s->data, s->time_index, s->frame, o.has("date") ? &date : nullptr,
+                              &s->sun_elevation_deg, &s->sun_azimuth_deg, nullptr, &no_times, why))
+      return failed(*why);
   }
   // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
   s->sun_azimuth_deg = sl_georef_grid_azimuth(&s->frame.georef, s->sun_azimuth_deg);
@@ -78,6 +68,40 @@ bool load_render_scene(const std::string &path, const std::vector<std::string> &
     if (!o.list("sky", &sky) || sky.size() != 3) return failed("sky must be R,G,B");
     for (int c = 0; c < 3; ++c) s->sky[c] = sky[c];
   }
+  return true;
+}
+
+bool frame_solar_position(const std::string &file, long time_index, const sl_storm_frame &frame, const sl_utc *date,
+                          double *elevation, double *azimuth, sl_utc *when_used, bool *no_times, std::string *why)
+{
+  sl_utc when{};
+  *no_times = false;
+  if (date) {
+    when = *date;
+  } else {
+    std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+    sl_error err{};
+    if (sl_storm_read_info(file.c_str(), info.get(), &err) != SL_OK || !info->has_times) {
+      *no_times = true;
+      *why = file + ": the file has no times: give a date or the sun's azimuth and elevation";
+      return false;
+    }
+    std::string t = info->times[time_index], reason;
+    for (char &ch : t)
+      if (ch == '_') ch = 'T';
+    if (!sl_parse_iso8601_utc(t + "Z", &when, &reason)) {
+      *why = file + ": time '" + info->times[time_index] + "' is not a date-time: " + reason;
+      return false;
+    }
+  }
+  sl_solar_position pos;
+  sl_error err{};
+  if (sl_solar_position_compute(&when, frame.center_lat, frame.center_lon, nullptr, &pos, &err)) {
+    *why = err.message;
+    return false;
+  }
+  *elevation = pos.elevation_deg, *azimuth = pos.azimuth_deg;
+  if (when_used) *when_used = when;
   return true;
 }
 

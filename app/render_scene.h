@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "sl_renderer.h"
+#include "sl_sky.h"
 #include "sl_storm.h"
 
 namespace sl {
@@ -34,6 +35,13 @@ struct RenderScene {
 // problem.
 bool load_render_scene(const std::string &path, const std::vector<std::string> &overrides, RenderScene *s,
                        std::string *why);
+
+// The sun over a loaded frame as render places it: the solar position at `date` (when not null) or
+// else at the file's own time of time_index, over the frame's centre. Compass azimuth and
+// elevation, degrees, and the time used (when_used may be null). False with one line naming the file and the problem; *no_times is set when
+// the file has no times to fall back on (a usage error: give a date or the sun's angles).
+bool frame_solar_position(const std::string &file, long time_index, const sl_storm_frame &frame, const sl_utc *date,
+                          double *elevation, double *azimuth, sl_utc *when_used, bool *no_times, std::string *why);
 
 // The scene's camera for content bounds lo..hi (sl_renderer_content_bounds): render's framing from
 // view-azimuth and view-elevation, or camera-position and camera-target where the scene gives them.
