@@ -229,7 +229,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
         sl__sun_at_height(suntab, x[2], sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
          * point): the slicer's closed-form gather with no extra in-segment attenuation. */
-        sl__scatter_over_segment(beta, dt, 1.0, moments);
+        sl_segment_scatter_moments(beta, dt, 1.0, moments);
         const double w = a[nwl];
         for (int c = 0; c < nwl; ++c) {
           const double gathered = l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1];

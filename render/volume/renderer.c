@@ -7,6 +7,7 @@
 #include "lighting.h"
 #include "renderer_internal.h"
 #include "sl_cie.h"
+#include "sl_sample_physics.h"
 
 #include <math.h>
 #include <omp.h>
@@ -264,26 +265,6 @@ static int clip_segment(double c, double half, double t0, double t1, double *mid
   *mid = 0.5 * (a + b);
   *len = b - a;
   return 1;
-}
-
-/* Single scattering gathered over one eye segment of length len with constant extinction beta,
- * when the light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u)
- * on top of the eye's exp(-beta u): m[0] = beta int_0^len exp(-beta rate u) du and
- * m[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
- * constant and one that grows linearly from 0 to 1 along the segment. rate may be <= 0 when the
- * segment runs toward the sun. */
-void sl__scatter_over_segment(double beta, double len, double rate, double m[2])
-{
-  const double x = beta * rate * len;
-  if (fabs(x) < 1e-4) {
-    /* Taylor series: the closed forms cancel catastrophically near x = 0. */
-    m[0] = beta * len * (1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0);
-    m[1] = beta * len * (0.5 - x / 3.0 + x * x / 8.0 - x * x * x / 30.0);
-    return;
-  }
-  const double e = exp(-x);
-  m[0] = beta * len * (-expm1(-x) / x);
-  m[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
 
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
@@ -586,7 +567,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
          * crosses this slab's own medium for a path that grows linearly along the eye segment.
          * The buffer value is taken linear between the segment's two ends and the slab's own
          * attenuation exponential in the path, so the gather has a closed form
-         * (scatter_over_segment). */
+         * (sl_segment_scatter_moments). */
         const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
@@ -621,7 +602,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
         for (int c = 0; c < nwl; ++c) {
           const double slab_extinction = kept[c] > 0.0 ? -log(kept[c]) / probe : beta;
           double moments[2];
-          sl__scatter_over_segment(beta, len, 1.0 + slab_extinction / beta * light_rate, moments);
+          sl_segment_scatter_moments(beta, len, 1.0 + slab_extinction / beta * light_rate, moments);
           const double gathered = exp(-slab_extinction * path_near) * (l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1]);
           /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
            * phase term (beta_sca Ams) over beta. */

@@ -45,7 +45,6 @@ int sl__normalize3(double v[3]);
 void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi);
 void sl__sun_at_height(const sun_table *t, double z, double *out);
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
-void sl__scatter_over_segment(double beta, double len, double rate, double m[2]);
 int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
 int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
 void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,

@@ -83,6 +83,24 @@ void main()
 
 }  // namespace
 
+// The segment moments by composite Simpson quadrature of their defining integrals (an outside
+// check of sl_segment_scatter_moments' closed forms and Taylor series, which the GLSL and the CPU
+// both run): m0 = beta int_0^len exp(-beta rate u) du, m1 = (beta / len) int_0^len u exp(...) du.
+static void segment_moments_by_quadrature(double beta, double len, double rate, double m[2])
+{
+  const int n = 4000;
+  const double h = len / n;
+  m[0] = m[1] = 0.0;
+  for (int k = 0; k <= n; ++k) {
+    const double u = k * h, w = (k == 0 || k == n) ? 1.0 : (k % 2 ? 4.0 : 2.0);
+    const double f = std::exp(-beta * rate * u);
+    m[0] += w * f;
+    m[1] += w * u * f;
+  }
+  m[0] *= beta * h / 3.0;
+  m[1] *= beta / len * h / 3.0;
+}
+
 int main(int argc, char **argv)
 {
   if (argc != 2) {
@@ -194,7 +212,7 @@ int main(int argc, char **argv)
       const int index = (int)b[0];
       sl_eye_phase(&m, beta, a[2], index, b[0] - index, phase);
       const double total = (double)a[0] + a[1];
-      sl__scatter_over_segment(total, a[3], b[1], moments);
+      segment_moments_by_quadrature(total, a[3], b[1], moments);
       const double count_after = a[2] + (m.albedo_mean[0] * a[0] + m.albedo_mean[1] * a[1]) * a[3];
       for (int c = 0; c < 3; ++c) {
         const double g = out[0][4 * i + c], p = out[1][4 * i + c];
