@@ -34,6 +34,13 @@ static int coord_values(const sl_nc *f, const char *dim, size_t n, double *v, ch
   if (nc_inq_varid(f->id, dim, &id) != NC_NOERR) return 0;
   sl_nc_attr_text(f, id, "units", units, ucap);
   sl_nc_attr_text(f, id, "standard_name", stdname, scap);
+  /* A coordinate variable is 1-D along its own dimension; anything else named like one (a 2-D
+   * field, a shorter axis) is not read as coordinates: start/count below describe one dimension. */
+  int nd = 0, dimid;
+  size_t len = 0;
+  if (nc_inq_varndims(f->id, id, &nd) != NC_NOERR || nd != 1 || nc_inq_vardimid(f->id, id, &dimid) != NC_NOERR ||
+      nc_inq_dimlen(f->id, dimid, &len) != NC_NOERR || len < n)
+    return 0;
   size_t start = 0;
   return v ? nc_get_vara_double(f->id, id, &start, &n, v) == NC_NOERR : 1;
 }
@@ -59,7 +66,7 @@ static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int
   if (!v) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
   int rc = SL_OK;
   if (!coord_values(f, dim, n, v, units, sizeof units, stdname, sizeof stdname)) {
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' to size the grid", f->path, dim);
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' to size the grid", f->path, dim);
     goto done;
   }
   if (cm1 && !units[0]) snprintf(units, sizeof units, "km");
@@ -345,7 +352,7 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   char u[8], s[8];
   if (!coord_values(f, L->coord[1], n, zh, u, sizeof u, s, sizeof s)) {
     free(zh);
-    return sl_fail(err, SL_ERR_FORMAT, "%s: no coordinate variable '%s' for the heights", f->path, L->coord[1]);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the heights", f->path, L->coord[1]);
   }
   int zf;
   size_t zn = 0;
