@@ -121,6 +121,9 @@ std::vector<float> read_netcdf_field(const std::string &path, const std::string 
   size_t len[3];
   for (int a = 0; a < 3; ++a)
     if (nc_inq_dimlen(nc, dims[a], &len[a]) != NC_NOERR) throw SceneError{path + ": unreadable dimensions"};
+  if (!(len[0] > 0 && len[1] > 0 && len[2] > 0) || (double)len[0] * len[1] * len[2] > 1e9)
+    throw SceneError{path + ": variable '" + var + "' has an empty or absurd shape " + std::to_string(len[0]) + "x" +
+                     std::to_string(len[1]) + "x" + std::to_string(len[2])};
   n[0] = (int)len[2], n[1] = (int)len[1], n[2] = (int)len[0];
   std::vector<float> v(len[0] * len[1] * len[2]);
   if (nc_get_var_float(nc, id, v.data()) != NC_NOERR) throw SceneError{path + ": cannot read '" + var + "'"};

@@ -36,11 +36,7 @@ static int coord_values(const sl_nc *f, const char *dim, size_t n, double *v, ch
   sl_nc_attr_text(f, id, "standard_name", stdname, scap);
   /* A coordinate variable is 1-D along its own dimension; anything else named like one (a 2-D
    * field, a shorter axis) is not read as coordinates: start/count below describe one dimension. */
-  int nd = 0, dimid;
-  size_t len = 0;
-  if (nc_inq_varndims(f->id, id, &nd) != NC_NOERR || nd != 1 || nc_inq_vardimid(f->id, id, &dimid) != NC_NOERR ||
-      nc_inq_dimlen(f->id, dimid, &len) != NC_NOERR || len < n)
-    return 0;
+  if (!sl_nc_var_is_1d(f, id, n, NULL)) return 0;
   size_t start = 0;
   return v ? nc_get_vara_double(f->id, id, &start, &n, v) == NC_NOERR : 1;
 }
@@ -194,7 +190,9 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
   int id;
   char units[128] = "";
-  if (!L->dim[0][0] || nc_inq_varid(f->id, L->dim[0], &id) != NC_NOERR) return;
+  if (!L->dim[0][0] || nc_inq_varid(f->id, L->dim[0], &id) != NC_NOERR ||
+      !sl_nc_var_is_1d(f, id, (size_t)info->ntimes, NULL))
+    return;
   sl_nc_attr_text(f, id, "units", units, sizeof units);
   const char *since = strstr(units, " since ");
   double per = 0;
@@ -207,18 +205,20 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
       sscanf(since + 7, "%d-%d-%d%*[ _T]%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
              &tm.tm_sec) < 3)
     return;
+  if (!sl_plausible_date(&tm)) return;
   tm.tm_year -= 1900, tm.tm_mon -= 1;
   const time_t base = timegm(&tm);
   double *v = malloc((size_t)info->ntimes * sizeof(double));
   size_t start = 0, count = (size_t)info->ntimes;
   if (v && nc_get_vara_double(f->id, id, &start, &count, v) == NC_NOERR) {
-    for (int t = 0; t < info->ntimes; ++t) {
-      const time_t at = base + (time_t)llround(v[t] * per);
+    int ok = 1;
+    for (int t = 0; t < info->ntimes && ok; ++t) {
+      time_t at;
       struct tm u;
-      gmtime_r(&at, &u);
-      strftime(info->times[t], sizeof info->times[t], "%Y-%m-%d_%H:%M:%S", &u);
+      ok = sl_time_add_seconds(base, v[t] * per, &at) && gmtime_r(&at, &u);
+      if (ok) strftime(info->times[t], sizeof info->times[t], "%Y-%m-%d_%H:%M:%S", &u);
     }
-    info->has_times = 1;
+    info->has_times = ok; /* absurd offsets: index-only times, as without a time coordinate */
   }
   free(v);
 }
@@ -435,8 +435,9 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
     double x, y;
     size_t ix = s.i0 + (s.nx / 2) * s.stride, iy = s.j0 + (s.ny / 2) * s.stride;
     int xid, yid;
-    if (nc_inq_varid(f->id, L.coord[3], &xid) == NC_NOERR && nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR &&
-        nc_inq_varid(f->id, L.coord[2], &yid) == NC_NOERR && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
+    if (nc_inq_varid(f->id, L.coord[3], &xid) == NC_NOERR && sl_nc_var_is_1d(f, xid, ix + 1, NULL) &&
+        nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR && nc_inq_varid(f->id, L.coord[2], &yid) == NC_NOERR &&
+        sl_nc_var_is_1d(f, yid, iy + 1, NULL) && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
       frame->center_lat = y, frame->center_lon = x;
   }
   frame->terrain_min = frame->terrain_max = ground;

@@ -132,6 +132,35 @@ int sl_nc_has_var(const sl_nc *f, const char *name)
   return nc_inq_varid(f->id, name, &id) == NC_NOERR;
 }
 
+int sl_nc_var_is_1d(const sl_nc *f, int varid, size_t min_len, size_t *len)
+{
+  int nd = 0, dimid;
+  nc_type type;
+  size_t n = 0;
+  if (nc_inq_varndims(f->id, varid, &nd) != NC_NOERR || nd != 1 || nc_inq_vartype(f->id, varid, &type) != NC_NOERR ||
+      type == NC_CHAR || type == NC_STRING || nc_inq_vardimid(f->id, varid, &dimid) != NC_NOERR ||
+      nc_inq_dimlen(f->id, dimid, &n) != NC_NOERR || n < min_len)
+    return 0;
+  if (len) *len = n;
+  return 1;
+}
+
+int sl_plausible_date(const struct tm *tm)
+{
+  return tm->tm_year >= 1 && tm->tm_year <= 9999 && tm->tm_mon >= 1 && tm->tm_mon <= 12 && tm->tm_mday >= 1 &&
+         tm->tm_mday <= 31 && tm->tm_hour >= 0 && tm->tm_hour <= 24 && tm->tm_min >= 0 && tm->tm_min <= 60 &&
+         tm->tm_sec >= 0 && tm->tm_sec <= 61;
+}
+
+int sl_time_add_seconds(time_t base, double seconds, time_t *out)
+{
+  /* About +-30 000 years: far beyond any simulation, far inside a 64-bit time_t. */
+  const double limit = 1e12;
+  if (base == (time_t)-1 || !(fabs(seconds) < limit) || (double)base > limit || (double)base < -limit) return 0;
+  *out = base + (time_t)llround(seconds);
+  return 1;
+}
+
 int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *const *dim_names, const size_t *lens,
                    sl_nc_var *v, sl_error *err)
 {

@@ -4,6 +4,7 @@
 #define SL_STORM_INTERNAL_H
 
 #include <stddef.h>
+#include <time.h>
 
 #include "sl_storm.h"
 
@@ -32,6 +33,16 @@ int sl_nc_open(const char *path, const void *data, size_t size, sl_nc *f, sl_err
 double sl_nc_attr_double(const sl_nc *f, int varid, const char *name, double fallback);
 int sl_nc_attr_text(const sl_nc *f, int varid, const char *name, char *out, size_t cap);
 int sl_nc_has_var(const sl_nc *f, const char *name);
+/* 1 when variable varid is numeric and one-dimensional with at least min_len values (its length
+ * in *len): the shape a coordinate or time variable must have before a 1-D start/count or a
+ * whole-variable read into a buffer of min_len values may touch it. */
+int sl_nc_var_is_1d(const sl_nc *f, int varid, size_t min_len, size_t *len);
+/* A time "since" base plus a count of seconds, in a time_t; 0 when it would leave the range a
+ * calendar date can print (a corrupt or absurd offset must not overflow the arithmetic). */
+/* 1 when a parsed calendar date (tm_year as the full year, tm_mon 1..12) is one a model can
+ * have written: years 1..9999, fields in their ranges (before any arithmetic on them). */
+int sl_plausible_date(const struct tm *tm);
+int sl_time_add_seconds(time_t base, double seconds, time_t *out);
 /* Opens `name` and checks that its trailing `ndims` dimensions have the given lengths (names too
  * when dim_names is not NULL); a leading time dimension is optional (static fields). */
 int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *const *dim_names, const size_t *lens,

@@ -40,7 +40,7 @@ double sl_temperature_from_wrf(double theta_perturbation, double pressure)
 static void times_from_xtime(const sl_nc *f, sl_storm_info *info)
 {
   int vid;
-  if (nc_inq_varid(f->id, "XTIME", &vid) != NC_NOERR) return;
+  if (nc_inq_varid(f->id, "XTIME", &vid) != NC_NOERR || !sl_nc_var_is_1d(f, vid, (size_t)info->ntimes, NULL)) return;
   char units[256] = "";
   size_t len = 0;
   if (nc_inq_attlen(f->id, vid, "units", &len) == NC_NOERR && len < sizeof units)
@@ -58,23 +58,27 @@ static void times_from_xtime(const sl_nc *f, sl_storm_info *info)
     ok = sscanf(start, "%d-%d-%d_%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
                 &tm.tm_sec) == 6;
   }
-  if (!ok || strncmp(units, "minutes", 7) != 0) return;
+  if (!ok || strncmp(units, "minutes", 7) != 0 || !sl_plausible_date(&tm)) return;
   tm.tm_year -= 1900;
   tm.tm_mon -= 1;
   const time_t base = timegm(&tm);
   double *minutes = malloc((size_t)info->ntimes * sizeof(double));
   if (!minutes) return;
-  if (nc_get_var_double(f->id, vid, minutes) == NC_NOERR) {
-    for (int t = 0; t < info->ntimes; ++t) {
-      const time_t at = base + (time_t)llround(minutes[t] * 60.0);
+  size_t start = 0, count = (size_t)info->ntimes;
+  if (nc_get_vara_double(f->id, vid, &start, &count, minutes) == NC_NOERR) {
+    info->has_times = 1;
+    for (int t = 0; t < info->ntimes && info->has_times; ++t) {
+      time_t at;
       struct tm u;
-      gmtime_r(&at, &u);
+      if (!sl_time_add_seconds(base, minutes[t] * 60.0, &at) || !gmtime_r(&at, &u)) {
+        info->has_times = 0; /* absurd offsets: index-only times */
+        break;
+      }
       char text[64];
       snprintf(text, sizeof text, "%04d-%02d-%02d_%02d:%02d:%02d", u.tm_year + 1900, u.tm_mon + 1, u.tm_mday,
                u.tm_hour, u.tm_min, u.tm_sec);
       snprintf(info->times[t], sizeof info->times[t], "%.19s", text);
     }
-    info->has_times = 1;
   }
   free(minutes);
 }
@@ -142,14 +146,18 @@ static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
     nc_type type;
     nc_inq_vartype(f->id, tid, &type);
     nc_inq_varndims(f->id, tid, &nd);
-    size_t slen = 0;
+    size_t slen = 0, tlen = 0;
     if (type == NC_CHAR && nd == 2) {
       nc_inq_vardimid(f->id, tid, dimids);
+      nc_inq_dimlen(f->id, dimids[0], &tlen);
       nc_inq_dimlen(f->id, dimids[1], &slen);
     }
-    if (slen > 0 && slen < 64) {
+    /* Only the first ntimes strings are read: a Times longer than the Time dimension (or along
+     * another one) must not overrun the buffer. */
+    if (slen > 0 && slen < 64 && tlen >= (size_t)info->ntimes) {
       char *buf = calloc((size_t)info->ntimes, slen);
-      if (buf && nc_get_var_text(f->id, tid, buf) == NC_NOERR) {
+      const size_t start[2] = {0, 0}, count[2] = {(size_t)info->ntimes, slen};
+      if (buf && nc_get_vara_text(f->id, tid, start, count, buf) == NC_NOERR) {
         for (int t = 0; t < info->ntimes; ++t) {
           size_t n = slen < 23 ? slen : 23;
           memcpy(info->times[t], buf + (size_t)t * slen, n);
