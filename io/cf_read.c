@@ -237,6 +237,11 @@ int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
     return sl_fail(err, SL_ERR_FORMAT, "%s: %d times, more than this reader handles (%d)", f->path, info->ntimes,
                    SL_MAX_TIMES);
   info->dx = L.dx, info->dy = L.dy;
+  /* The same bounds as WRF's DX/DY: a grid step beyond 1000 km (or a NaN from corrupt
+   * coordinates) would place the storm off the earth. */
+  if (!(info->dx > 0.0 && info->dx < 1e6) || !(info->dy > 0.0 && info->dy < 1e6))
+    return sl_fail(err, SL_ERR_DATA, "%s: horizontal grid spacing %g x %g m is not plausible (0 to 1000 km)", f->path,
+                   info->dx, info->dy);
   if ((rc = cf_projection(f, &L, info, err))) return rc;
   cf_times(f, &L, info);
   return SL_OK;
@@ -360,7 +365,10 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   if (L->cm1 && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
       nc_inq_vardimid(f->id, zf, &dimid) == NC_NOERR && nc_inq_dimlen(f->id, dimid, &zn) == NC_NOERR && zn == n + 1) {
     size_t start = 0;
-    nc_get_vara_double(f->id, zf, &start, &zn, zi);
+    if (nc_get_vara_double(f->id, zf, &start, &zn, zi) != NC_NOERR) {
+      free(zh);
+      return sl_fail(err, SL_ERR_FORMAT, "%s: cannot read the interface heights 'zf'", f->path);
+    }
   } else {
     /* A single level stands for the layer from the ground (0) to twice its height. */
     for (size_t k = 1; k < n; ++k) zi[k] = 0.5 * (zh[k - 1] + zh[k]);
