@@ -186,6 +186,15 @@ static int render_main(int argc, char **argv)
     if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
   }
   if (o.str("earth") != "flat" && o.str("earth") != "round") return sl::fail(cmd, "--earth must be flat or round", 2);
+  // Overlay lines are rasterized by VTK, depth-tested against the terrain mesh; the CPU composite
+  // has no line rasterizer, so it would silently drop them.
+  if (o.has("cpu-composite"))
+    for (const char *layer : {"coastlines", "borders", "graticule", "domain-outline", "scale-bar"})
+      if (o.has(layer))
+        return sl::fail(cmd,
+                        std::string("--cpu-composite draws no overlay lines (--") + layer +
+                            "): VTK draws them; composite through VTK (xvfb-run -a) or leave the overlays off",
+                        2);
   sl_lighting lighting;
   if (o.str("lighting") == "multiple") lighting = SL_LIGHTING_MULTIPLE;
   else if (o.str("lighting") == "eq25") lighting = SL_LIGHTING_MULTIPLE_EQ25;
