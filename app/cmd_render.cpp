@@ -34,6 +34,7 @@
 #include "sl_renderer.h"
 #include "sl_optics.h"
 #include "sl_sky.h"
+#include "sl_geo.h"
 #include "sl_storm.h"
 #include "sl_tempfile.h"
 
@@ -185,6 +186,15 @@ static int render_main(int argc, char **argv)
     if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
   }
   if (o.str("earth") != "flat" && o.str("earth") != "round") return sl::fail(cmd, "--earth must be flat or round", 2);
+  // Overlay lines are rasterized by VTK, depth-tested against the terrain mesh; the CPU composite
+  // has no line rasterizer, so it would silently drop them.
+  if (o.has("cpu-composite"))
+    for (const char *layer : {"coastlines", "borders", "graticule", "domain-outline", "scale-bar"})
+      if (o.has(layer))
+        return sl::fail(cmd,
+                        std::string("--cpu-composite draws no overlay lines (--") + layer +
+                            "): VTK draws them; composite through VTK (xvfb-run -a) or leave the overlays off",
+                        2);
   sl_lighting lighting;
   if (o.str("lighting") == "multiple") lighting = SL_LIGHTING_MULTIPLE;
   else if (o.str("lighting") == "eq25") lighting = SL_LIGHTING_MULTIPLE_EQ25;
@@ -253,6 +263,8 @@ static int render_main(int argc, char **argv)
     sl_storm_frame_free(&frame);
     return sl::fail(cmd, err.message);
   }
+  // The round earth the storm was placed on is also the ground the eye rays meet (the horizon).
+  if (with_air && load.load.earth_curvature) atmosphere.ground_radius = SL_WRF_EARTH_RADIUS;
 
   // Particle tables only for the fields this storm has, at the scene's wavelengths (cached).
   std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> optics(nullptr, sl_optics_free);
@@ -323,6 +335,14 @@ static int render_main(int argc, char **argv)
       cam.opaque_distance = terrain->opaque_distance();
     }
   }
+  // Opaque per pixel: the terrain, and the round earth, which hides what lies beyond the horizon
+  // (only with --curvature drop: the flat ground never cuts the volume). Also the frame's Z.
+  std::vector<float> opaque((size_t)cam.width * cam.height, INFINITY);
+  if (cam.opaque_distance) std::copy(cam.opaque_distance, cam.opaque_distance + opaque.size(), opaque.begin());
+  if (with_air && atmosphere.ground_radius > 0) {
+    sl_camera_ground_distance(&cam, &atmosphere, opaque.data());
+    cam.opaque_distance = opaque.data();
+  }
 
   sl_image volume{}, background{}, frame_img{};
   int rc = 0;
@@ -367,6 +387,9 @@ static int render_main(int argc, char **argv)
       goto done;
     }
   }
+  // Z: the volume's opacity-weighted depth, then the terrain or ground behind what it lets through.
+  sl_image_opaque_depth(&cam, opaque.data(), &background);
+  sl_image_depth_over(&volume, &background, &frame_img);
 #ifdef SL_WITHOUT_APSF
   if (fog_km > 0) {
     rc = sl::fail(cmd, "--fog-visibility-km needs the glow module (render/apsf), which this build left out", 2);

@@ -15,6 +15,7 @@
 #include "ranks.h"
 #include "series.h"
 #include "sl_storm.h"
+#include "sl_tempfile.h"
 
 namespace sl {
 
@@ -150,6 +151,16 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     std::error_code ec;
     if (!dir.empty()) std::filesystem::create_directories(dir, ec);
   }
+  // A killed run's temporary frames (their writer is gone) are neither frames nor kept.
+  int stale = 0;
+  if (lead)
+    for (int i : chosen)
+      for (const std::string &p : patterns) {
+        int n = 0;
+        sl_error err{};
+        if (sl_temp_remove_stale(frame_pattern_expand(p, i).c_str(), &n, &err)) return fail(cmd, err.message);
+        stale += n;
+      }
   // Nobody writes a frame before every rank has decided what is pending.
   ranks.barrier();
 
@@ -184,6 +195,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   if (lead && !quiet) {
     std::printf("series: %zu frames, %zu already complete, %zu to render", chosen.size(), chosen.size() - pending.size(),
                 pending.size());
+    if (stale) std::printf(" (%d stale temporary file%s of a killed run removed)", stale, stale == 1 ? "" : "s");
     if (ranks.parallel()) std::printf(" on %d ranks (%d thread%s each)", ranks.size(), threads, threads == 1 ? "" : "s");
     std::printf("\n");
     std::fflush(stdout);
@@ -276,6 +288,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "frames", (double)chosen.size());
     cJSON_AddNumberToObject(root, "skipped", (double)(chosen.size() - pending.size()));
+    cJSON_AddNumberToObject(root, "stale_temporary_removed", stale);
     cJSON_AddNumberToObject(root, "rendered", rendered);
     cJSON_AddNumberToObject(root, "failed", failed);
     cJSON_AddNumberToObject(root, "ranks", ranks.size());

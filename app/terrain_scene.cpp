@@ -477,6 +477,8 @@ void TerrainScene::add_props(vtkRenderer *renderer) const
     mapper->MapDataArrayToVertexAttribute("slRadianceMC", "slRadiance", vtkDataObject::FIELD_ASSOCIATION_POINTS, -1);
     vtkNew<vtkActor> actor;
     actor->SetMapper(mapper);
+    // Seen from below, the ground is behind the round earth's horizon (sl_heightfield_ray likewise).
+    actor->GetProperty()->BackfaceCullingOn();
     vtkShaderProperty *sp = actor->GetShaderProperty();
     sp->AddVertexShaderReplacement("//VTK::Color::Dec", true,
                                    "//VTK::Color::Dec\nin vec3 slRadianceMC;\nout vec3 slRadianceVSOut;", false);

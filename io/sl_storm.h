@@ -73,7 +73,7 @@ typedef struct sl_storm_frame {
   /* The scene around the storm (terrain, coastlines, graticule): one value per column of the
    * volume's horizontal grid (nx * ny, x fastest, the same columns as volume's samples), owned,
    * freed by sl_storm_frame_free. NULL when the reader had none. */
-  float *terrain_height;      /* HGT, m above sea level */
+  float *terrain_height;      /* HGT, m above sea level (world z: less the drop with earth_curvature) */
   double *column_lat, *column_lon; /* XLAT, XLONG, degrees north and east */
   float *surface_albedo;      /* the file's ALBEDO (land-surface model, broadband), NULL when absent */
   float *land_mask;           /* 1 land, 0 water: LANDMASK, else XLAND (1 land, 2 water); NULL when absent */

@@ -16,6 +16,11 @@ int sl_temp_name(const char *path, char *tmp, size_t size, sl_error *err);
 /* Renames tmp to path, removing tmp on failure. */
 int sl_temp_commit(const char *tmp, const char *path, sl_error *err);
 
+/* Removes the temporary files that writers of path left when they were killed: "<dir>/.<name>.
+ * <pid>.tmp" beside path whose process no longer exists (a live writer's are kept). *removed (may
+ * be NULL) gets how many went. A folder that does not exist has none. */
+int sl_temp_remove_stale(const char *path, int *removed, sl_error *err);
+
 #ifdef __cplusplus
 }
 #endif

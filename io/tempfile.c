@@ -1,4 +1,7 @@
+#include <dirent.h>
 #include <errno.h>
+#include <signal.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -37,4 +40,41 @@ int sl_temp_commit(const char *tmp, const char *path, sl_error *err)
     return sl_fail(err, SL_ERR_IO, "%s: cannot move the finished file into place: %s", path, strerror(e));
   }
   return SL_OK;
+}
+
+int sl_temp_remove_stale(const char *path, int *removed, sl_error *err)
+{
+  if (removed) *removed = 0;
+  if (!path || !*path) return sl_fail(err, SL_ERR_ARG, "empty output path");
+  const char *slash = strrchr(path, '/');
+  char dir[4096];
+  const char *base = slash ? slash + 1 : path;
+  const size_t len = slash ? (size_t)(slash - path) : 1;
+  if (len >= sizeof dir) return sl_fail(err, SL_ERR_ARG, "%s: path too long", path);
+  if (slash) memcpy(dir, path, len), dir[len] = '\0';
+  else strcpy(dir, ".");
+  if (slash && len == 0) strcpy(dir, "/");
+  DIR *d = opendir(dir);
+  if (!d) return errno == ENOENT ? SL_OK : sl_fail(err, SL_ERR_IO, "%s: cannot read folder '%s': %s", path, dir, strerror(errno));
+  const size_t nb = strlen(base);
+  struct dirent *e;
+  int status = SL_OK;
+  while ((e = readdir(d))) {
+    /* exactly sl_temp_name's pattern: "." base "." digits ".tmp" */
+    const char *n = e->d_name;
+    if (n[0] != '.' || strncmp(n + 1, base, nb) != 0 || n[1 + nb] != '.') continue;
+    char *end;
+    const long pid = strtol(n + 2 + nb, &end, 10);
+    if (end == n + 2 + nb || strcmp(end, ".tmp") != 0 || pid <= 0) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* its writer is alive (or not ours to judge) */
+    char full[4096 + 256];
+    snprintf(full, sizeof full, "%s/%s", dir, n);
+    if (unlink(full) != 0 && errno != ENOENT) {
+      status = sl_fail(err, SL_ERR_IO, "%s: cannot remove the stale temporary file: %s", full, strerror(errno));
+      break;
+    }
+    if (removed) ++*removed;
+  }
+  closedir(d);
+  return status;
 }

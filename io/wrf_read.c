@@ -471,6 +471,9 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
                             frame, err)))
     goto done;
   if ((rc = keep_columns(frame, &w, l2, &hgt, &xlat, &xlong, a, err))) goto done;
+  /* The ground sinks with its columns, so the terrain surface stays under its storm. */
+  if (drop)
+    for (size_t c = 0; c < n2; ++c) frame->terrain_height[c] -= (float)drop[c];
   /* Where the grid sits on the earth: the whole grid's centre (between columns when a count is
    * even) from the georeference, a subset's centre column from its own latitudes/longitudes. */
   const size_t centre = (size_t)(s.ny / 2) * s.nx + s.nx / 2;

@@ -42,6 +42,22 @@ void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *
   }
 }
 
+void sl_image_depth_over(const sl_image *layer, const sl_image *background, sl_image *out)
+{
+  const size_t n = (size_t)layer->width * layer->height;
+  for (size_t i = 0; i < n; ++i) {
+    const float behind = background->depth[i], front = layer->depth[i];
+    if (!isfinite(behind)) {
+      out->depth[i] = front;
+      continue;
+    }
+    /* The layer's own depth is weighted by the opacity each sample took from the ray; what it
+     * let through (its transparency) stops at the background. */
+    const float coverage = 1.0f - layer->transparency[i];
+    out->depth[i] = isfinite(front) && coverage > 0.0f ? coverage * front + (1.0f - coverage) * behind : behind;
+  }
+}
+
 int sl_image_compare(const sl_image *a, const sl_image *b, sl_image_metrics *m, sl_error *err)
 {
   *m = (sl_image_metrics){0};

@@ -12,7 +12,8 @@ extern "C" {
 typedef struct sl_image {
   int width, height;
   float *rgba;   /* 4 floats per pixel, row-major, row 0 at the top */
-  float *depth;  /* distance along the view axis to the volume's opacity-weighted depth; +inf where empty */
+  float *depth;  /* distance along the view axis to the opacity-weighted depth of what the pixel
+                    shows (the volume's; a background's: its ground); +inf where only sky */
   float *transparency; /* exp(-tau) toward the eye, kept apart from alpha = 1 - transparency, which
                           cannot hold a transparency below float's epsilon (tau > ~16) */
 } sl_image;
@@ -22,6 +23,12 @@ void sl_image_free(sl_image *img);
 /* out = layer + layer.transparency * background for premultiplied RGBA ("over"); out's alpha is
  * the layer's coverage and its depth and transparency the layer's. out may alias layer. */
 void sl_image_over(const sl_image *layer, const sl_image *background, sl_image *out);
+
+/* out's depth = the opacity-weighted depth of the layer in front of an opaque background: the
+ * layer's depth weighted by its coverage 1 - T plus the background's depth weighted by T, where the
+ * background's depth is finite (ground, terrain); the layer's depth where it is not (sky). out may
+ * alias either. */
+void sl_image_depth_over(const sl_image *layer, const sl_image *background, sl_image *out);
 
 typedef struct sl_image_metrics {
   double relative_rmse;  /* sqrt(sum (a-b)^2 / sum b^2) over R, G, B */

@@ -91,6 +91,7 @@ int sl_atmosphere_init(sl_atmosphere *atm, const double *wavelength_nm, int coun
   atm->count = count;
   atm->scale_height = 8000.0;
   atm->earth_radius = 6371000.0;
+  atm->ground_radius = 0.0;
   atm->earth = earth;
   atm->rayleigh = rayleigh;
   return SL_OK;

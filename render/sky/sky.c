@@ -1,6 +1,7 @@
 /* Sky queries for all wavelengths of an sl_atmosphere: transparency (eq. 11), sunlight (eq. 12),
  * in-scattered sky light (eqs. 14-15, corrected) and the direct sun (section 4.2.4). */
 #include <math.h>
+#include <stddef.h>
 
 #include "sl_sky.h"
 
@@ -20,6 +21,25 @@ static int unit_direction(const double v[3], double out[3], const char *what, sl
   return SL_OK;
 }
 
+double sl_sky_altitude(const sl_atmosphere *atm, const double p[3], double up[3])
+{
+  const double R = atm->ground_radius;
+  if (!(R > 0.0)) {
+    if (up) up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
+    return p[2];
+  }
+  const double c[3] = {p[0], p[1], p[2] + R}; /* from the sphere's centre */
+  const double r = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (up) {
+    if (r > 0.0) up[0] = c[0] / r, up[1] = c[1] / r, up[2] = c[2] / r;
+    else up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
+  }
+  /* r - R without cancellation: (r^2 - R^2) / (r + R), r^2 - R^2 = x^2 + y^2 + z (z + 2R). */
+  return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
+}
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
 int sl_sky_transparency(const sl_atmosphere *atm, const double a[3], const double b[3],
                         double *transparency, sl_error *err)
 {
@@ -29,7 +49,8 @@ int sl_sky_transparency(const sl_atmosphere *atm, const double a[3], const doubl
   double distance = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   double gamma = 1.0 / atm->scale_height;
   for (int i = 0; i < atm->count; ++i)
-    transparency[i] = exp(-sl_sky_optical_depth(atm->beta_sea_level[i], gamma, a[2], b[2], distance));
+    transparency[i] = exp(-sl_sky_optical_depth(atm->beta_sea_level[i], gamma, sl_sky_altitude(atm, a, NULL),
+                                                sl_sky_altitude(atm, b, NULL), distance));
   return SL_OK;
 }
 
@@ -41,13 +62,15 @@ int sl_sky_sunlight(const sl_atmosphere *atm, const double p[3], const double su
   if (!finite3(p)) return sl_fail(err, SL_ERR_ARG, "sky: point is not finite");
   int status = unit_direction(sun_dir, sun, "sun direction", err);
   if (status) return status;
-  double airmass = sl_sky_airmass(atm, p[2], sun[2]);
+  double up[3];
+  const double z = sl_sky_altitude(atm, p, up);
+  double airmass = sl_sky_airmass(atm, z, dot3(sun, up));
   double gamma = 1.0 / atm->scale_height;
   for (int i = 0; i < atm->count; ++i)
     irradiance[i] = isinf(airmass) ? 0.0
                                    : atm->sun_irradiance[i] *
                                          exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[i], gamma,
-                                                                       p[2], airmass));
+                                                                       z, airmass));
   if (night) *night = isinf(airmass);
   return SL_OK;
 }
@@ -65,19 +88,21 @@ int sl_sky_segment(const sl_atmosphere *atm, const double eye[3], const double d
   if (!(distance >= 0.0)) return sl_fail(err, SL_ERR_ARG, "sky: segment length %g is negative", distance);
 
   double gamma = 1.0 / atm->scale_height;
-  double mu = view[2];
-  double length = sl_sky_segment_length(eye[2], mu, distance);
-  double airmass = sl_sky_airmass(atm, eye[2], sun[2]);
+  double up[3];
+  const double z_eye = sl_sky_altitude(atm, eye, up);
+  double mu = dot3(view, up);
+  double length = sl_sky_segment_length(z_eye, mu, distance, atm->ground_radius);
+  double airmass = sl_sky_airmass(atm, z_eye, dot3(sun, up));
   double cos_view_sun = view[0] * sun[0] + view[1] * sun[1] + view[2] * sun[2];
   for (int i = 0; i < atm->count; ++i) {
     double beta = atm->beta_sea_level[i];
     if (radiance)
       radiance[i] = atm->sun_irradiance[i] *
-                    sl_sky_inscatter(beta, gamma, eye[2], mu, length, airmass, cos_view_sun);
+                    sl_sky_inscatter(beta, gamma, z_eye, mu, length, airmass, cos_view_sun);
     if (transparency) {
       /* Eq. 11 to distance `length`; an infinite segment upward reaches the top of the
        * atmosphere, horizontally it never leaves the flat atmosphere and is opaque. */
-      double beta_eye = beta * exp(-gamma * eye[2]);
+      double beta_eye = beta * exp(-gamma * z_eye);
       double factor = sl_sky_segment_length_factor(gamma, mu, length);
       transparency[i] = !(beta_eye > 0.0) ? 1.0 : isinf(factor) ? 0.0 : exp(-beta_eye * factor);
     }
@@ -95,7 +120,8 @@ int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double e
   if (status) return status;
   view->atm = atm;
   for (int i = 0; i < 3; ++i) view->eye[i] = eye[i];
-  view->airmass = sl_sky_airmass(atm, eye[2], view->sun[2]);
+  view->altitude = sl_sky_altitude(atm, eye, view->up);
+  view->airmass = sl_sky_airmass(atm, view->altitude, dot3(view->sun, view->up));
   view->night = isinf(view->airmass);
   return SL_OK;
 }
@@ -104,9 +130,12 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
                          double *radiance, double *transparency)
 {
   const sl_atmosphere *atm = view->atm;
-  double gamma = 1.0 / atm->scale_height, mu = dir[2], z_eye = view->eye[2];
-  /* the part of the ray that exists: a downward ray ends on the ground */
-  double end = sl_sky_segment_length(z_eye, mu, t_far);
+  /* The eye's height and vertical from its position (callers may move view->eye). */
+  double up[3];
+  const double z_eye = sl_sky_altitude(atm, view->eye, up);
+  const double gamma = 1.0 / atm->scale_height, mu = dot3(dir, up);
+  /* the part of the ray that exists: it ends where it meets the ground */
+  double end = sl_sky_segment_length(z_eye, mu, t_far, atm->ground_radius);
   double near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
   double z_near = z_eye + mu * near;
   double length = isinf(end) ? end : end - near;
@@ -153,13 +182,15 @@ int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], cons
                              const double sun_dir[3], double *radiance)
 {
   int inside = sl_sky_in_sun_disk(dir, sun_dir);
-  double airmass = inside ? sl_sky_airmass(atm, eye[2], sun_dir[2]) : INFINITY;
+  double up[3];
+  const double z = sl_sky_altitude(atm, eye, up);
+  double airmass = inside ? sl_sky_airmass(atm, z, dot3(sun_dir, up)) : INFINITY;
   double gamma = 1.0 / atm->scale_height, omega = sl_sun_disk_solid_angle();
   for (int i = 0; i < atm->count; ++i)
     radiance[i] = isinf(airmass) ? 0.0
                                  : atm->sun_irradiance[i] / omega *
                                        exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[i], gamma,
-                                                                     eye[2], airmass));
+                                                                     z, airmass));
   return inside && !isinf(airmass);
 }
 

@@ -47,13 +47,26 @@ double sl_sky_sun_optical_depth(double beta_sea_level, double inv_scale_height, 
   return beta_sea_level * exp(-inv_scale_height * z) * airmass / inv_scale_height;
 }
 
-double sl_sky_segment_length(double z_eye, double mu, double distance)
+double sl_sky_ground_distance(double z_eye, double mu, double ground_radius)
 {
-  if (mu < 0.0) {
-    double to_ground = z_eye > 0.0 ? z_eye / -mu : 0.0;
-    return distance < to_ground ? distance : to_ground;
-  }
-  return distance;
+  if (!(mu < 0.0)) return INFINITY;
+  const double h = z_eye > 0.0 ? z_eye : 0.0;
+  if (!(ground_radius > 0.0)) return h / -mu; /* the plane z = 0 */
+  /* |eye + t dir - centre| = R with the eye at R + h from the centre: t^2 + 2 r0 mu t + h (2R + h) = 0.
+   * The near root, written as h (2R + h) / (-r0 mu + sqrt(disc)) so that neither a steep ray
+   * (disc ~ r0^2 mu^2) nor a low eye cancels; no real root: the ray passes over the horizon. */
+  const double r0 = ground_radius + h;
+  const double c = h * (2.0 * ground_radius + h);
+  const double disc = r0 * r0 * mu * mu - c;
+  if (disc < 0.0) return INFINITY;
+  const double q = -r0 * mu + sqrt(disc);
+  return q > 0.0 ? c / q : 0.0;
+}
+
+double sl_sky_segment_length(double z_eye, double mu, double distance, double ground_radius)
+{
+  const double to_ground = sl_sky_ground_distance(z_eye, mu, ground_radius);
+  return distance < to_ground ? distance : to_ground;
 }
 
 double sl_sky_segment_length_factor(double inv_scale_height, double mu, double distance)

@@ -5,7 +5,10 @@
  * model; then the query functions below are cheap and allocation-free. The per-sample formulas
  * they use live in sl_sky_sample.h (plain-C subset that can compile as GLSL).
  *
- * World frame: east-north-up metres, z = height above sea level. Directions are unit vectors.
+ * World frame: east-north-up metres. With the flat ground (ground_radius 0, the paper's) z is the
+ * height above sea level; with the round ground a point's height is its distance above the sphere
+ * (sl_sky_altitude) and directions are measured against the vertical there. Directions are unit
+ * vectors.
  * Radiances are per unit top-of-atmosphere irradiance unless sun_irradiance says otherwise.
  * Night (the sun's centre at or below the horizon) gives zero sun and zero sky, and a flag. */
 #ifndef SL_SKY_H
@@ -48,15 +51,26 @@ typedef struct sl_atmosphere {
   double sun_irradiance[SL_SKY_MAX_WAVELENGTHS];   /* top of atmosphere; 1 by default */
   double scale_height;                             /* m; Riley eq. 9: 8000 (gamma = 1/8000) */
   double earth_radius;                             /* m; used by SL_EARTH_ROUND */
+  /* Where eye rays meet the ground. 0 (the default): the plane z = 0. R > 0: the sphere of radius
+   * R centred at (0, 0, -R), which touches that plane at the world origin: the earth as
+   * `--curvature drop` places the storm (io: sl_curvature_drop), so distant ground and cloud
+   * fall below the true horizon. The air keeps the exponential profile along each ray, in the
+   * eye's own vertical (docs/GEOREFERENCING.md, "Earth curvature"). */
+  double ground_radius;
   sl_earth_model earth;
   sl_rayleigh_source rayleigh;
 } sl_atmosphere;
 
 /* Fills atm for the given wavelengths (380..1000 nm, at most SL_SKY_MAX_WAVELENGTHS), earth
- * model, Rayleigh source, scale height 8000 m, earth radius 6 371 000 m, sun irradiance 1.
+ * model, Rayleigh source, scale height 8000 m, earth radius 6 371 000 m, sun irradiance 1, the
+ * flat ground (ground_radius 0).
  * The fields may be changed afterwards (e.g. sun_irradiance, scale_height). */
 int sl_atmosphere_init(sl_atmosphere *atm, const double *wavelength_nm, int count,
                        sl_earth_model earth, sl_rayleigh_source rayleigh, sl_error *err);
+
+/* Height of world point p above the ground (p[2] for the flat ground, |p - centre| - R for the
+ * round one) and, when up is not NULL, the unit local vertical there. */
+double sl_sky_altitude(const sl_atmosphere *atm, const double p[3], double up[3]);
 
 /* Rayleigh volume scattering coefficient of standard air at sea level (m^-1), Bodhaine et al.
  * 1999 eqs. (number density 2.546899e25 m^-3 at 288.15 K and 1013.25 hPa). */
@@ -96,13 +110,15 @@ typedef struct sl_sky_view {
   double eye[3];
   double sun[3];     /* unit, toward the sun */
   double airmass;    /* sun air mass at the eye's height; infinite at night */
+  double altitude;   /* the eye's height above the ground (sl_sky_altitude) */
+  double up[3];      /* the eye's local vertical */
   int night;
 } sl_sky_view;
 
 int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double eye[3],
                      const double sun_dir[3], sl_error *err);
 /* Sky light reaching the eye from the part [t_near, t_far] of the ray eye + t dir (t_far may be
- * INFINITY: to the top of the atmosphere, or to the ground for a downward ray), already
+ * INFINITY: to the top of the atmosphere, or to where the ray meets the ground), already
  * attenuated by the air between the eye and t_near, and the transparency of [t_near, t_far].
  * Splitting a ray at any t gives front + T(front) * back = whole: the renderer's split at the
  * volume's midplane (section 5) is exact. dir must be a unit vector; either output may be NULL.

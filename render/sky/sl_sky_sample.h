@@ -1,7 +1,7 @@
 /* Per-sample atmospheric light: Riley et al. 2004, eqs. 1, 9-15, in a plain-C subset.
  *
  * Everything here takes and returns scalars (double), uses no pointers, no varargs, no library
- * calls beyond exp/sqrt/abs and isinf, so that a later issue can compile the same text as GLSL
+ * calls beyond exp/sqrt/abs and isinf (INFINITY for a ray that meets no ground), so that a later issue can compile the same text as GLSL
  * (sky_sample.c holds the bodies). Units: metres, m^-1; heights z are above sea level; the
  * direction cosine mu is the z component (up) of the unit view direction, p_Omega_y in the
  * paper.
@@ -39,10 +39,18 @@ double sl_sky_optical_depth(double beta_sea_level, double inv_scale_height, doub
 double sl_sky_sun_optical_depth(double beta_sea_level, double inv_scale_height, double z,
                                 double airmass);
 
-/* Length of the view segment that the sky integral covers: `distance` itself, except that a
- * downward ray (mu < 0) stops at sea level (the flat ground), and an infinite distance upward
+/* Distance along a ray from an eye at height z_eye above the ground, with direction cosine mu to
+ * the local vertical, to where it meets the ground: the plane z = 0 when ground_radius is 0 (the
+ * paper's flat earth), z_eye / -mu; else the sphere of that radius under the eye,
+ *   t = -(R + h) mu - sqrt((R + h)^2 mu^2 - h (2R + h)),
+ * and INFINITY when the ray does not go down or passes above the sphere's horizon, whose dip
+ * below the horizontal is acos(R / (R + h)). Heights below the ground count as on it. */
+double sl_sky_ground_distance(double z_eye, double mu, double ground_radius);
+
+/* Length of the view segment that the sky integral covers: `distance` itself, except that a ray
+ * stops where it meets the ground (sl_sky_ground_distance), and an infinite distance otherwise
  * means the top of the atmosphere (kept infinite: the closed form handles it). */
-double sl_sky_segment_length(double z_eye, double mu, double distance);
+double sl_sky_segment_length(double z_eye, double mu, double distance, double ground_radius);
 
 /* Riley eqs. 14-15, corrected: single-scattered sunlight gathered along the segment from an eye
  * at height z_eye along a ray of direction cosine mu for `distance` metres (may be infinite),

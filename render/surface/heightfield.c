@@ -24,7 +24,7 @@ void sl_heightfield_normal(const sl_heightfield *hf, int i, int j, double n[3])
   n[2] = 1.0 / len;
 }
 
-/* Moller-Trumbore; edges count as inside (a small tolerance), so a ray through the shared
+/* Moller-Trumbore, front faces only; edges count as inside (a small tolerance), so a ray through the shared
  * diagonal or a cell edge cannot slip between two triangles. */
 static int ray_triangle(const double o[3], const double d[3], const double a[3], const double b[3], const double c[3],
                         double *t)
@@ -33,7 +33,9 @@ static int ray_triangle(const double o[3], const double d[3], const double a[3],
   const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   const double p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
   const double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-  if (fabs(det) < 1e-300) return 0;
+  /* One-sided: a ray meets the ground from above (det = -d . n > 0 for the upward normal). From
+   * below, it has already gone through the earth (behind the round earth's horizon). */
+  if (!(det > 1e-300)) return 0;
   const double inv = 1.0 / det;
   const double s[3] = {o[0] - a[0], o[1] - a[1], o[2] - a[2]};
   const double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;

@@ -33,8 +33,9 @@ void sl_heightfield_point(const sl_heightfield *hf, int i, int j, double p[3]);
 /* Unit upward normal at lattice point (i, j) from central differences (one-sided at the edges). */
 void sl_heightfield_normal(const sl_heightfield *hf, int i, int j, double n[3]);
 
-/* First intersection of the ray o + t d (d need not be unit) with the triangles, for t in
- * (0, t_max]: returns 1 and sets *t_hit, else 0. Walks the cells the ray crosses (2-D DDA). */
+/* First intersection of the ray o + t d (d need not be unit) with the triangles from above (their
+ * upper side), for t in (0, t_max]: returns 1 and sets *t_hit, else 0. Walks the cells the ray
+ * crosses (2-D DDA). */
 int sl_heightfield_ray(const sl_heightfield *hf, const double o[3], const double d[3], double t_max, double *t_hit);
 
 /* Optical depth int beta ds from x along the unit direction dir to the box of the grid (beta in

@@ -99,8 +99,16 @@ int sl_terrain_light(const sl_terrain_light_params *p, double *radiance, float *
     for (int a = 0; a < 3; ++a) step = fmin(step, 0.5 * p->volume->spacing[a]);
   }
   /* The sky's irradiance hardly changes over a few kilometres of height: tabulated, then linear. */
+  /* Heights above the atmosphere's ground: a storm placed on the round earth (curvature drop)
+   * has world z below the tangent plane far from the origin but its true height above the sphere. */
   double zmin = INFINITY, zmax = -INFINITY;
-  for (size_t c = 0; c < (size_t)hf->nx * hf->ny; ++c) zmin = fmin(zmin, hf->height[c]), zmax = fmax(zmax, hf->height[c]);
+  for (int j = 0; j < hf->ny; ++j)
+    for (int i = 0; i < hf->nx; ++i) {
+      double x[3];
+      sl_heightfield_point(hf, i, j, x);
+      const double z = atm ? sl_sky_altitude(atm, x, NULL) : x[2];
+      zmin = fmin(zmin, z), zmax = fmax(zmax, z);
+    }
   double sky[SKY_LEVELS][SL_SKY_MAX_WAVELENGTHS];
   const double dzs = (zmax - zmin) / (SKY_LEVELS - 1);
   for (int l = 0; l < SKY_LEVELS; ++l)
@@ -148,7 +156,7 @@ int sl_terrain_light(const sl_terrain_light_params *p, double *radiance, float *
       const double diffused_sun = mu0 * fmax(0.0, sl_diffuse_transmittance(scaled_sun) - cloud_t);
       /* Skylight on a tilted surface sees the fraction (1 + n_z) / 2 of the sky hemisphere. */
       const double sky_view = 0.5 * (1.0 + n[2]) * sl_diffuse_transmittance(scaled_up);
-      double u = dzs > 0.0 ? (x[2] - zmin) / dzs : 0.0;
+      double u = dzs > 0.0 ? ((atm ? sl_sky_altitude(atm, x, NULL) : x[2]) - zmin) / dzs : 0.0;
       int l = (int)u;
       if (l > SKY_LEVELS - 2) l = SKY_LEVELS - 2;
       if (l < 0) l = 0;

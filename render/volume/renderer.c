@@ -746,7 +746,7 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
   const int nwl = r->model.nwl;
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < n; ++i) {
-    double L[SL_MAX_WAVELENGTHS], rgb[3];
+    double L[SL_MAX_WAVELENGTHS], rgb[3], ground_depth = INFINITY;
     if (sc->atmosphere) {
       double d[3], sun_disk[SL_MAX_WAVELENGTHS];
       sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
@@ -755,12 +755,17 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))
         for (int c = 0; c < nwl; ++c) L[c] += sun_disk[c];
       sl_cie_apply(r->to_rgb, nwl, L, rgb);
+      /* Where the ray meets the ground (plane or sphere), as distance along the view axis. */
+      double up_eye[3];
+      const double h = sl_sky_altitude(sc->atmosphere, cam->position, up_eye);
+      const double t = sl_sky_ground_distance(h, sl__dot3(d, up_eye), sc->atmosphere->ground_radius);
+      ground_depth = t * sl__dot3(d, fwd);
     } else {
       for (int c = 0; c < SL_CHANNELS; ++c) rgb[c] = sc->sky_radiance[c];
     }
     for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * i + c] = (float)rgb[c];
     img->rgba[4 * i + 3] = 1.0f;
-    img->depth[i] = INFINITY;
+    img->depth[i] = (float)ground_depth;
     img->transparency[i] = 0.0f;
   }
   return SL_OK;
@@ -830,4 +835,34 @@ int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
   sl__pixel_ray(fwd, right, up, tan(0.5 * cam->fov_deg * M_PI / 180.0), (double)cam->width / cam->height, cam->width,
                 cam->height, px, py, d);
   return 0;
+}
+
+void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, float *distance)
+{
+  double up[3];
+  const double h = sl_sky_altitude(atm, cam->position, up);
+#pragma omp parallel for schedule(static)
+  for (int py = 0; py < cam->height; ++py)
+    for (int px = 0; px < cam->width; ++px) {
+      double d[3];
+      if (sl_camera_ray(cam, px, py, d)) continue;
+      const double t = sl_sky_ground_distance(h, sl__dot3(d, up), atm->ground_radius);
+      float *q = distance + (size_t)py * cam->width + px;
+      if (t < *q) *q = (float)t;
+    }
+}
+
+void sl_image_opaque_depth(const sl_camera *cam, const float *distance, sl_image *img)
+{
+  double fwd[3], right[3], up[3];
+  if (sl__camera_basis(cam, fwd, right, up)) return;
+#pragma omp parallel for schedule(static)
+  for (int py = 0; py < cam->height; ++py)
+    for (int px = 0; px < cam->width; ++px) {
+      const size_t q = (size_t)py * cam->width + px;
+      double d[3];
+      if (!isfinite(distance[q]) || sl_camera_ray(cam, px, py, d)) continue;
+      const float z = (float)(distance[q] * sl__dot3(d, fwd));
+      if (!(img->depth[q] <= z)) img->depth[q] = z;
+    }
 }

@@ -97,8 +97,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, s
  * on first use when the scene asks for it. */
 int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 
-/* The background behind and around the volume for this camera, opaque, depth +inf: the whole
- * ray's sky plus the sun's disk (or the constant sky without an atmosphere). The volume layer
+/* The background behind and around the volume for this camera, opaque: the whole ray's sky plus
+ * the sun's disk (or the constant sky without an atmosphere). Its depth is the view-axis distance
+ * to where the ray meets the atmosphere's ground (plane or sphere), +inf where it meets none. The volume layer
  * already carries the aerial perspective in front of the volume, so that
  * frame = volume + transparency * background (sl_image_over). */
 int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_image *img, sl_error *err);
@@ -116,6 +117,16 @@ void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
 /* The ray through pixel (px, py) of the pinhole camera (unit direction, world frame): the one
  * every renderer of the project uses. Returns 1 for a degenerate camera. */
 int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3]);
+
+/* The earth as an opaque surface: lowers each pixel's distance (rows from the top, along the unit
+ * ray, as sl_camera.opaque_distance) to where its ray meets the atmosphere's ground
+ * (sl_sky_ground_distance: the plane z = 0 or the sphere), so eye rays stop there and what lies
+ * beyond the horizon is hidden. distance has width * height values. */
+void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, float *distance);
+
+/* The view-axis depth (sl_image.depth) of opaque surfaces at a distance along each pixel's unit
+ * ray: img->depth becomes the nearer of its own and t * (ray . forward), per pixel. */
+void sl_image_opaque_depth(const sl_camera *cam, const float *distance, sl_image *img);
 
 /* Kniss et al.'s half-angle choice: h = normalize(v + p) when the view vector v and the light's
  * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye

@@ -96,6 +96,7 @@ expect_failure "unwritable output" "nonexistent-dir" "$sl" render "$work/good.nc
 expect_failure "bad output type" "must end in .exr or .png" "$sl" render "$work/good.nc" --out "$work/out/x.jpg" --cpu-composite
 expect_failure "absurd size" "width" "$sl" render "$work/good.nc" --out "$out" --width 0 --cpu-composite
 expect_failure "absurd slices" "slices" "$sl" render "$work/good.nc" --out "$out" --slices 999999 --cpu-composite
+expect_failure "overlays on the CPU composite" "cpu-composite draws no overlay lines" "$sl" render "$work/good.nc" --out "$out" --graticule --cpu-composite
 expect_failure "negative fog visibility" "fog-visibility-km" "$sl" render "$work/good.nc" --out "$out" --fog-visibility-km -1 --cpu-composite
 expect_failure "unknown scene key" "bad_scene.json.*unknown scene key 'colour'" "$sl" render --scene "$work/bad_scene.json" --out "$out" --cpu-composite
 expect_failure "scene not JSON" "text.nc.*not a JSON object" "$sl" render --scene "$work/text.nc" --out "$out" --cpu-composite

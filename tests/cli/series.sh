@@ -40,7 +40,15 @@ wait "$pid" 2>/dev/null
 done_before=$(ls "$work"/b/k_*.png 2>/dev/null | wc -l)
 # (On a very busy machine the run may finish before the kill lands: the checks below still hold.)
 check "the kill came after frame 2" bash -c "[ $done_before -ge 2 ]"
+# What a killed writer leaves (sl_temp_name's ".<name>.<pid>.tmp", its process gone) and a live one's.
+true & dead=$!
+wait "$dead"
+: > "$work/b/.k_0003.exr.$dead.tmp"
+: > "$work/b/.k_0000.png.$$.tmp"
 "$sl" render "$katrina" --times all --out "$work/b/k_%04d.exr,$work/b/k_%04d.png" "${small[@]}" --json >"$work/b.json"
+check "the killed writer's temporary file is removed" bash -c "[ ! -e '$work/b/.k_0003.exr.$dead.tmp' ] && grep -q '\"stale_temporary_removed\":[1-9]' '$work/b.json'"
+check "a live writer's temporary file is kept" bash -c "[ -e '$work/b/.k_0000.png.$$.tmp' ]"
+rm -f "$work/b/.k_0000.png.$$.tmp"
 check "the rerun skips the complete frames" bash -c "[ \"$(json_number "$work/b.json" skipped)\" = $done_before ]"
 check "the rerun renders only the remaining ones" bash -c "[ \"$(json_number "$work/b.json" rendered)\" = $((4 - done_before)) ]"
 for i in 0 1 2 3; do

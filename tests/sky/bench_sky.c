@@ -34,7 +34,7 @@ int main(int argc, char **argv)
   for (int i = 0; i < n; ++i) {
     double mu = -0.2 + 1.2 * (i % 1000) / 1000.0;
     double K = (i & 1) ? INFINITY : 1e3 + 37.0 * (i % 5000);
-    acc += sl_sky_inscatter(atm.beta_sea_level[i % 3], gamma, 1500.0, mu, sl_sky_segment_length(1500.0, mu, K),
+    acc += sl_sky_inscatter(atm.beta_sea_level[i % 3], gamma, 1500.0, mu, sl_sky_segment_length(1500.0, mu, K, 0.0),
                             1.0 / sun[2], 0.3);
   }
   double t1 = now();
@@ -67,7 +67,7 @@ int main(int argc, char **argv)
     for (int x = 0; x < size; ++x) {
       double az = 2.0 * kPi * (x + 0.5) / size, el = 0.5 * kPi - kPi * (y + 0.5) / size;
       double dir[3] = {cos(el) * sin(az), cos(el) * cos(az), sin(el)};
-      double K = sl_sky_segment_length(eye[2], dir[2], INFINITY);
+      double K = sl_sky_segment_length(eye[2], dir[2], INFINITY, 0.0);
       double cvs = dir[0] * sun[0] + dir[1] * sun[1] + dir[2] * sun[2];
       double disk[3];
       sl_sky_sun_disk_radiance(&atm, eye, dir, sun, disk);

@@ -18,11 +18,14 @@
 #define sl_sky_optical_depth f_optical_depth
 #define sl_sky_sun_optical_depth f_sun_optical_depth
 #define sl_sky_segment_length f_segment_length
+#define sl_sky_ground_distance f_ground_distance
+#define sqrt sqrtf
 #define sl_sky_inscatter f_inscatter
 #include "sky_sample.c"
 #undef double
 #undef exp
 #undef fabs
+#undef sqrt
 
 static uint64_t state = 0x243F6A8885A308D3ull;
 static double uniform(void)
@@ -49,7 +52,7 @@ int main(void)
     double mu = r < 0.05 ? 0.0 : r < 0.1 ? l : 2.0 * uniform() - 1.0;
     double K = uniform() < 0.3 ? INFINITY : 10.0 * pow(1e4, uniform());
     double cos_vs = 2.0 * uniform() - 1.0;
-    float Kf = f_segment_length((float)z, (float)mu, (float)K);
+    float Kf = f_segment_length((float)z, (float)mu, (float)K, 0.0f);
     float got = f_inscatter((float)beta, (float)gamma, (float)z, (float)mu, Kf, (float)(1.0 / l), (float)cos_vs);
     ref_sky s = {beta, gamma, z, mu, 1.0 / l, 3.0 / (16.0 * kPi) * (1.0 + cos_vs * cos_vs)};
     double want = ref_sky_radiance(&s, K, 1e-10);

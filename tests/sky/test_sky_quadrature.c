@@ -30,7 +30,7 @@ typedef struct config {
 
 static double closed_form(const config *c)
 {
-  double K = sl_sky_segment_length(c->z_eye, c->mu, c->K);
+  double K = sl_sky_segment_length(c->z_eye, c->mu, c->K, 0.0);
   return sl_sky_inscatter(c->beta_sl, kGamma, c->z_eye, c->mu, K, c->airmass, c->cos_view_sun);
 }
 
@@ -192,7 +192,7 @@ static void continuity(void)
       /* across the horizon; for the infinite ray the downward one ends on the ground */
       double zero = sl_sky_inscatter(b, kGamma, 500.0, 0.0, K, m, 0.8);
       double up = sl_sky_inscatter(b, kGamma, 500.0, d, K, m, 0.8);
-      double down = sl_sky_inscatter(b, kGamma, 500.0, -d, sl_sky_segment_length(500.0, -d, K), m, 0.8);
+      double down = sl_sky_inscatter(b, kGamma, 500.0, -d, sl_sky_segment_length(500.0, -d, K, 0.0), m, 0.8);
       CHECK_CLOSE(up, zero, 10 * d + 1e-14, 0.0);
       CHECK_CLOSE(down, zero, 10 * d + 1e-14, 0.0);
     }
