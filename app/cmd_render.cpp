@@ -22,6 +22,7 @@
 #include "render_scene.h"
 #include "render_series.h"
 #include "gpu_render.h"
+#include "night_scene.h"
 #include "scene.h"
 #include "terrain_scene.h"
 #include "vtk_png.h"
@@ -323,6 +324,16 @@ static int render_main(int argc, char **argv)
       cam.opaque_distance = terrain->opaque_distance();
     }
   }
+  // Night: the stated night-sky luminance and the town's lamps (their eye rays stop at them).
+  sl::NightScene night;
+  {
+    std::string why;
+    if (!sl::read_night_scene(o, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why)) {
+      sl_renderer_destroy(r);
+      sl_storm_frame_free(&frame);
+      return sl::fail(cmd, why, 2);
+    }
+  }
 
   sl_image volume{}, background{}, frame_img{};
   int rc = 0;
@@ -350,6 +361,11 @@ static int render_main(int argc, char **argv)
     rc = sl::fail(cmd, err.message);
     goto done;
   }
+  if ((night.night_sky[0] > 0.0 || night.night_sky[1] > 0.0 || night.night_sky[2] > 0.0) &&
+      sl_night_sky_fill(&cam, night.night_sky, &background, &err)) {
+    rc = sl::fail(cmd, err.message);
+    goto done;
+  }
   progress.done();
   t_render = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
@@ -367,6 +383,9 @@ static int render_main(int argc, char **argv)
       goto done;
     }
   }
+  // The lamps through the volume renderer's transmittance to them (their rays stopped there).
+  sl_point_lights_draw(night.pixels.data(), (int)night.pixels.size(), volume.transparency, &frame_img,
+                       night.source_mask.empty() ? nullptr : night.source_mask.data());
 #ifdef SL_WITHOUT_APSF
   if (fog_km > 0) {
     rc = sl::fail(cmd, "--fog-visibility-km needs the glow module (render/apsf), which this build left out", 2);
@@ -412,7 +431,18 @@ static int render_main(int argc, char **argv)
     for (size_t i = 0; i < saved_depth.size(); ++i)
       if (!(frame_img.depth[i] < gp.sky_distance)) frame_img.depth[i] = (float)gp.sky_distance;
     gp.fov_y_deg = cam.fov_deg;
-    gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk, lights */
+    gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk */
+    if (!night.source_mask.empty()) gp.source_mask = night.source_mask.data(); /* and the lamps */
+    {
+      // Eq. 31: the bank's airlight from the diffuse light of sky and ground (app/night_scene.h).
+      std::string why;
+      const double albedo[3] = {media[0].albedo, media[1].albedo, media[2].albedo};
+      if (!sl::fog_airlight(with_air ? &atmosphere : nullptr, scene.sun_direction, cam.position, night.night_sky,
+                            albedo, gp.airlight, &why)) {
+        rc = sl::fail(cmd, why);
+        goto done;
+      }
+    }
     sl_glow_workspace *ws = sl_glow_workspace_create(cam.width, cam.height, 0, 0, &err);
     const int g = ws ? sl_glow_apply(ws, &gp, &frame_img, &frame_img, nullptr, &err) : 1;
     sl_glow_workspace_free(ws);

@@ -179,6 +179,24 @@ int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float
   return SL_OK;
 }
 
+double sl_airlight_path(double scene_radiance, double horizon_brightness, double T)
+{
+  const double t = exp(-T);
+  return scene_radiance * t + horizon_brightness * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
+}
+
+double sl_airlight_horizon_brightness(double albedo, double radiance_up, double radiance_down)
+{
+  return 0.5 * albedo * (radiance_up + radiance_down);
+}
+
+/* A source: inside the medium (T > 0) and bright enough, or marked by the caller. */
+static int is_source(const sl_glow_params *p, const float *px, double T, size_t i)
+{
+  if (!(T > 0.0)) return 0;
+  return (p->source_mask && p->source_mask[i]) || fmax(px[0], fmax(px[1], px[2])) >= p->threshold;
+}
+
 static double channel_scale(const sl_glow_params *p, int c)
 {
   return p->channel_sigma_scale[c] > 0.0 ? p->channel_sigma_scale[c] : 1.0;
@@ -252,8 +270,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
         else T = p->sigma * z * sqrt(1.0 + u * u + v * v);
       }
       Tpx[i] = T;
-      const double peak = fmax(px[0], fmax(px[1], px[2]));
-      if (T > 0.0 && peak >= p->threshold) {
+      if (is_source(p, px, T, i)) {
         ++sources;
         if (T < Tmin) Tmin = T;
         if (T > Tmax) Tmax = T;
@@ -285,7 +302,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     for (size_t i = 0; i < npx; ++i) {
       const float *px = in->rgba + 4 * i;
       double w = 0.0;
-      if (Tpx[i] > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold) {
+      if (is_source(p, px, Tpx[i], i)) {
         const double d = L > 1 ? fabs((log(Tpx[i]) - lmin) / lstep - l) : 0.0;
         w = d < 1.0 ? 1.0 - d : 0.0;
       }
@@ -337,15 +354,16 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       const float *px = in->rgba + 4 * i;
       float *o = out->rgba + 4 * i;
       const double T = Tpx[i];
-      const int is_source = T > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold;
+      const int source = is_source(p, px, T, i);
       const float a = px[3];
       for (int c = 0; c < 3; ++c) {
         double base = px[c];
-        if (is_source) {
-          base = 0.0; /* all of it is in the glow, the unscattered beam included (the kernel's Dirac) */
+        if (source) {
+          /* All of it is in the glow, the unscattered beam included (the kernel's Dirac); the
+           * medium in front of the source still adds its airlight. */
+          base = p->attenuate ? sl_airlight_path(0.0, p->airlight[c], T * channel_scale(p, c)) : 0.0;
         } else if (T > 0.0 && p->attenuate) {
-          const double t = exp(-T * channel_scale(p, c));
-          base = px[c] * t + p->airlight[c] * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
+          base = sl_airlight_path(px[c], p->airlight[c], T * channel_scale(p, c));
         }
         o[c] = (float)(base + glow[c][i]);
       }

@@ -81,11 +81,15 @@ typedef struct sl_glow_params {
                            neither sources nor attenuated (the sky is outside the medium) */
   double fov_y_deg;     /* vertical field of view of the pinhole that made the image */
   double threshold;     /* a pixel is a source when its largest RGB value reaches this */
+  /* Optional, width x height: pixels marked non-zero are sources whatever their value (emissive
+   * lights drawn into the frame, sl_point_lights.h, fainter than any useful threshold). */
+  const unsigned char *source_mask;
   int n_layers;         /* at most this many depth layers (1..64), evenly spaced in log T over the
                            sources and no closer than 2 % in T */
   sl_glow_norm norm;
   int attenuate;        /* eq. 30: e^{-T} on pixels that are not sources */
-  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources */
+  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources: the
+                           medium's horizon brightness (sl_airlight_horizon_brightness) */
   double tolerance;     /* series tolerance (sl_apsf_terms_needed) */
   void (*progress)(void *user, double fraction);
   void *progress_user;
@@ -97,6 +101,21 @@ void sl_glow_params_defaults(sl_glow_params *p);
  * medium with q = the aerosol's asymmetry g and W0 its albedo, and the extinction relative to
  * 550 nm, where Koschmieder's visibility defines sigma (for channel_sigma_scale). */
 int sl_glow_haze_media(const double wavelengths_nm[3], sl_apsf_medium media[3], double sigma_scale[3], sl_error *err);
+
+/* Narasimhan et al., eqs. 30-31 without the glow: a scene radiance L0 seen through optical
+ * thickness T of a medium whose source function J (the horizon brightness L_sky: what an
+ * infinitely deep path of the medium shows) is the same all along the path,
+ *   L = L0 e^{-T} + J (1 - e^{-T}),
+ * the solution of dL/dtau = -L + J (docs/APSF.md, "Airlight", checks it by quadrature). */
+double sl_airlight_path(double scene_radiance, double horizon_brightness, double T);
+
+/* J of a medium of single-scattering albedo W0 lit by diffuse light that is uniform over the
+ * upper hemisphere (radiance L_up: the sky) and over the lower one (L_down: the ground), seen
+ * along a horizontal line of sight: J = W0 (L_up + L_down) / 2, exact for every phase function
+ * (mirroring z -> -z keeps the scattering angle of a horizontal ray, so each hemisphere holds
+ * half of the normalised phase function). Single scattering of the diffuse light; off the
+ * horizontal the phase function tilts the weights (docs/APSF.md measures by how much). */
+double sl_airlight_horizon_brightness(double albedo, double radiance_up, double radiance_down);
 
 #define SL_GLOW_MAX_LAYERS 64
 typedef struct sl_glow_stats {
