@@ -425,11 +425,8 @@ static int render_main(int argc, char **argv)
     gp.medium = media[1];
     gp.sigma = sl_koschmieder_extinction(fog_km * 1000.0);
     gp.sky_distance = fog_sky_km * 1000.0;
-    /* A fog bank of that depth in front of the camera: farther things are seen through all of it
-     * (the glow model reads each pixel's depth as its distance inside the medium). */
-    std::vector<float> saved_depth(frame_img.depth, frame_img.depth + (size_t)cam.width * cam.height);
-    for (size_t i = 0; i < saved_depth.size(); ++i)
-      if (!(frame_img.depth[i] < gp.sky_distance)) frame_img.depth[i] = (float)gp.sky_distance;
+    /* A fog bank of that depth in front of the camera: farther things are seen through all of it. */
+    gp.bank_depth = gp.sky_distance;
     gp.fov_y_deg = cam.fov_deg;
     gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk */
     if (!night.source_mask.empty()) gp.source_mask = night.source_mask.data(); /* and the lamps */
@@ -446,7 +443,6 @@ static int render_main(int argc, char **argv)
     sl_glow_workspace *ws = sl_glow_workspace_create(cam.width, cam.height, 0, 0, &err);
     const int g = ws ? sl_glow_apply(ws, &gp, &frame_img, &frame_img, nullptr, &err) : 1;
     sl_glow_workspace_free(ws);
-    std::copy(saved_depth.begin(), saved_depth.end(), frame_img.depth);
     if (g) {
       rc = sl::fail(cmd, std::string("fog glow: ") + err.message);
       goto done;

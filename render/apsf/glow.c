@@ -266,8 +266,9 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
           break;
         }
         const double u = (x + 0.5 - 0.5 * W) / f, v = (y + 0.5 - 0.5 * H) / f;
-        if (isinf(z)) T = p->sky_distance > 0.0 ? p->sigma * p->sky_distance : NAN;
-        else T = p->sigma * z * sqrt(1.0 + u * u + v * v);
+        double distance = isinf(z) ? (p->sky_distance > 0.0 ? p->sky_distance : NAN) : z * sqrt(1.0 + u * u + v * v);
+        if (p->bank_depth > 0.0 && distance > p->bank_depth) distance = p->bank_depth;
+        T = p->sigma * distance;
       }
       Tpx[i] = T;
       if (is_source(p, px, T, i)) {

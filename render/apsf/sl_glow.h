@@ -79,6 +79,9 @@ typedef struct sl_glow_params {
   double fixed_T;       /* > 0: every pixel at this T and depth is not read */
   double sky_distance;  /* distance (m) given to pixels of infinite depth; <= 0: such pixels are
                            neither sources nor attenuated (the sky is outside the medium) */
+  double bank_depth;    /* > 0: the medium is a bank of this depth (m) in front of the camera: a
+                           pixel's distance inside it is clipped to this (farther things, lights
+                           beyond the bank included, are seen through all of it) */
   double fov_y_deg;     /* vertical field of view of the pinhole that made the image */
   double threshold;     /* a pixel is a source when its largest RGB value reaches this */
   /* Optional, width x height: pixels marked non-zero are sources whatever their value (emissive
