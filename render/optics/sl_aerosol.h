@@ -12,11 +12,12 @@
  * tables; the albedo is what the imaginary part moves). Humidity growth is not modelled.
  *
  * Digits checked (docs/APSF.md, "Haze"): the composition (0.7 / 0.3), both mode radii, both
- * widths and both number fractions agree with quotations of the report's Tables 1-2 at 0 % RH: the table "Modele d'aerosol" of "Initiation a la science des aerosols"
- * (studylibfr.com/doc/624041, "adapte de Shettle and Fenn (1979) pour une humidite relative de
- * 0 %": 0.999875, 0.027 um, 0.35; 0.000125, 0.43 um, 0.4) and, except the radii, Eradiate's
- * Shettle & Fenn module (eradiate/eradiate, SIZE_DISTRIBUTION_PARAMS, COMPOSITION). The refractive index
- * was not found in a quotable source in reach: it is the report's value as first transcribed,
+ * widths and both number fractions agree with quotations of the report's Tables 1-2 at 0 % RH:
+ * the table "Modele d'aerosol" of "Initiation a la science des aerosols" (studylibfr.com/doc/
+ * 624041, "adapte de Shettle and Fenn (1979) pour une humidite relative de 0 %": 0.999875,
+ * 0.027 um, 0.35; 0.000125, 0.43 um, 0.4) and, except the radii, Eradiate's Shettle & Fenn
+ * module (eradiate/eradiate, SIZE_DISTRIBUTION_PARAMS, COMPOSITION). The refractive index was
+ * not found in a quotable source in reach: it is the report's value as first transcribed,
  * unverified. */
 #ifndef SL_AEROSOL_H
 #define SL_AEROSOL_H
