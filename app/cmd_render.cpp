@@ -430,15 +430,17 @@ static int render_main(int argc, char **argv)
     gp.fov_y_deg = cam.fov_deg;
     gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk */
     if (!night.source_mask.empty()) gp.source_mask = night.source_mask.data(); /* and the lamps */
+    // Eq. 31: the bank's airlight from the diffuse light of sky and ground (app/night_scene.h).
+    std::vector<float> airlight_map;
     {
-      // Eq. 31: the bank's airlight from the diffuse light of sky and ground (app/night_scene.h).
       std::string why;
-      const double albedo[3] = {media[0].albedo, media[1].albedo, media[2].albedo};
-      if (!sl::fog_airlight(with_air ? &atmosphere : nullptr, scene.sun_direction, cam.position, night.night_sky,
-                            albedo, gp.airlight, &why)) {
+      const sl_apsf_medium *const channel_media[3] = {&media[0], &media[1], &media[2]};
+      if (!sl::fog_airlight(with_air ? &atmosphere : nullptr, scene.sun_direction, cam, night.night_sky,
+                            channel_media, &airlight_map, &why)) {
         rc = sl::fail(cmd, why);
         goto done;
       }
+      gp.airlight_map = airlight_map.data();
     }
     sl_glow_workspace *ws = sl_glow_workspace_create(cam.width, cam.height, 0, 0, &err);
     const int g = ws ? sl_glow_apply(ws, &gp, &frame_img, &frame_img, nullptr, &err) : 1;

@@ -89,9 +89,11 @@ bool night_prepare_view(NightScene *night, sl_camera *cam, std::string *why)
 }
 
 #ifndef SL_WITHOUT_APSF
-bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const double eye[3],
-                  const double night_sky[3], const double albedo[3], double out[3], std::string *why)
+bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const sl_camera &cam,
+                  const double night_sky[3], const sl_apsf_medium *const media[3], std::vector<float> *map,
+                  std::string *why)
 {
+  const double *eye = cam.position;
   const double ground_albedo = 0.15;  // vegetated land (docs/SCENES.md's terrain default)
   double up[3] = {night_sky[0], night_sky[1], night_sky[2]}, down[3];
   for (int c = 0; c < 3; ++c) down[c] = ground_albedo * up[c];  // E = pi L from a uniform sky
@@ -116,7 +118,27 @@ bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const
       down[c] += ground_albedo * (e_sky + e_sun * mu0) / M_PI;
     }
   }
-  for (int c = 0; c < 3; ++c) out[c] = sl_airlight_horizon_brightness(albedo[c], up[c], down[c]);
+  // J per pixel from its centre ray's elevation, tabulated per channel every 0.1 degree.
+  const int n_table = 1801;
+  std::vector<double> table(3 * (size_t)n_table);
+  for (int k = 0; k < n_table; ++k) {
+    const double e = (-90.0 + 0.1 * k) * M_PI / 180.0;
+    for (int c = 0; c < 3; ++c) table[3 * k + c] = sl_airlight_source(media[c]->albedo, media[c]->q, e, up[c], down[c]);
+  }
+  map->assign(3 * (size_t)cam.width * cam.height, 0.0f);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      double d[3];
+      if (sl_camera_ray(&cam, x, y, d)) {
+        *why = "airlight: the camera has no view direction";
+        return false;
+      }
+      const double u = (std::asin(std::max(-1.0, std::min(1.0, d[2]))) * 180.0 / M_PI + 90.0) / 0.1;
+      const int k = std::min(n_table - 2, std::max(0, (int)u));
+      const double t = std::min(1.0, std::max(0.0, u - k));
+      float *o = map->data() + 3 * ((size_t)y * cam.width + x);
+      for (int c = 0; c < 3; ++c) o[c] = (float)((1.0 - t) * table[3 * k + c] + t * table[3 * (k + 1) + c]);
+    }
   return true;
 }
 #endif

@@ -11,6 +11,9 @@
 #include "cli.h"
 #include "sl_point_lights.h"
 #include "sl_sky.h"
+#ifndef SL_WITHOUT_APSF
+#include "sl_apsf.h"
+#endif
 #include "sl_storm.h"
 
 namespace sl {
@@ -32,13 +35,15 @@ bool read_night_scene(Options &o, const sl_storm_frame &frame, NightScene *night
 bool night_prepare_view(NightScene *night, sl_camera *cam, std::string *why);
 
 #ifndef SL_WITHOUT_APSF
-// Eq. 31's L_sky for a haze or fog bank around the camera, per channel (650, 515, 440 nm): the
-// horizon brightness of the medium (albedo per channel) under the diffuse light, the sky above
+// Eq. 31's L_sky for a haze or fog bank around the camera, per pixel and channel (650, 515,
+// 440 nm; 3 floats a pixel into map): the medium's single scattering (albedo, asymmetry per
+// channel) of the diffuse light along each pixel's sight line (sl_airlight_source): the sky above
 // (the analytic sky's irradiance E_sky at the camera as a uniform hemisphere, E_sky / pi, plus
 // the night sky) and the ground below (Lambertian, albedo 0.15, lit by sky and sun). The sun's
 // own light is not in it: the sun's disk is a glow source, its scattered light is its glow.
-bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const double eye[3],
-                  const double night_sky[3], const double albedo[3], double out[3], std::string *why);
+bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const sl_camera &cam,
+                  const double night_sky[3], const sl_apsf_medium *const media[3], std::vector<float> *map,
+                  std::string *why);
 #endif
 
 }  // namespace sl

@@ -91,8 +91,9 @@ typedef struct sl_glow_params {
                            sources and no closer than 2 % in T */
   sl_glow_norm norm;
   int attenuate;        /* eq. 30: e^{-T} on pixels that are not sources */
-  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources: the
-                           medium's horizon brightness (sl_airlight_horizon_brightness) */
+  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to every pixel: the medium's source
+                           function J (sl_airlight_source) */
+  const float *airlight_map; /* optional, 3 floats per pixel: J per pixel instead of airlight[] */
   double tolerance;     /* series tolerance (sl_apsf_terms_needed) */
   void (*progress)(void *user, double fraction);
   void *progress_user;
@@ -112,13 +113,24 @@ int sl_glow_haze_media(const double wavelengths_nm[3], sl_apsf_medium media[3], 
  * the solution of dL/dtau = -L + J (docs/APSF.md, "Airlight", checks it by quadrature). */
 double sl_airlight_path(double scene_radiance, double horizon_brightness, double T);
 
-/* J of a medium of single-scattering albedo W0 lit by diffuse light that is uniform over the
- * upper hemisphere (radiance L_up: the sky) and over the lower one (L_down: the ground), seen
- * along a horizontal line of sight: J = W0 (L_up + L_down) / 2, exact for every phase function
- * (mirroring z -> -z keeps the scattering angle of a horizontal ray, so each hemisphere holds
- * half of the normalised phase function). Single scattering of the diffuse light; off the
- * horizontal the phase function tilts the weights (docs/APSF.md measures by how much). */
-double sl_airlight_horizon_brightness(double albedo, double radiance_up, double radiance_down);
+/* The share of a normalised Henyey-Greenstein phase function (asymmetry q) that points into the
+ * upper hemisphere for a sight line d at elevation e (radians): light arriving from direction s
+ * is scattered toward the eye through the angle whose cosine is mu = s.d (forward scattering
+ * brings the light from beyond the point along the sight line), so
+ *   F(e) = 2 pi int_{-1}^{1} p_HG(mu) a(mu, e) dmu,
+ * a(mu, e) = acos(clamp(-mu tan e / sqrt(1 - mu^2))) / pi the part of the cone of half-angle
+ * acos(mu) around d that lies above the horizontal. F(0) = 1/2 for every q: mirroring
+ * z -> -z keeps the scattering angle of a horizontal ray. Integrated in HG's cumulative
+ * distribution (where the phase weight is uniform) by Gauss-Legendre on the three pieces
+ * between the cone's tangencies mu = +-cos e. */
+double sl_airlight_upper_share(double q, double elevation_rad);
+
+/* J of a medium of single-scattering albedo W0 and asymmetry q lit by diffuse light that is
+ * uniform over the upper hemisphere (radiance L_up: the sky) and over the lower one (L_down: the
+ * ground), along a sight line at elevation e: single scattering of that light,
+ *   J = W0 (L_up F(e) + L_down (1 - F(e))),
+ * the eq. 31 L_sky of that sight line (docs/APSF.md, "Airlight"). */
+double sl_airlight_source(double albedo, double q, double elevation_rad, double radiance_up, double radiance_down);
 
 #define SL_GLOW_MAX_LAYERS 64
 typedef struct sl_glow_stats {
