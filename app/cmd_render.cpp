@@ -22,6 +22,7 @@
 #include "render_scene.h"
 #include "render_series.h"
 #include "gpu_render.h"
+#include "night_scene.h"
 #include "scene.h"
 #include "terrain_scene.h"
 #include "vtk_png.h"
@@ -343,6 +344,16 @@ static int render_main(int argc, char **argv)
     sl_camera_ground_distance(&cam, &atmosphere, opaque.data());
     cam.opaque_distance = opaque.data();
   }
+  // Night: the stated night-sky luminance and the town's lamps (their eye rays stop at them).
+  sl::NightScene night;
+  {
+    std::string why;
+    if (!sl::read_night_scene(o, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why)) {
+      sl_renderer_destroy(r);
+      sl_storm_frame_free(&frame);
+      return sl::fail(cmd, why, 2);
+    }
+  }
 
   sl_image volume{}, background{}, frame_img{};
   int rc = 0;
@@ -370,6 +381,11 @@ static int render_main(int argc, char **argv)
     rc = sl::fail(cmd, err.message);
     goto done;
   }
+  if ((night.night_sky[0] > 0.0 || night.night_sky[1] > 0.0 || night.night_sky[2] > 0.0) &&
+      sl_night_sky_fill(&cam, night.night_sky, &background, &err)) {
+    rc = sl::fail(cmd, err.message);
+    goto done;
+  }
   progress.done();
   t_render = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
@@ -390,6 +406,9 @@ static int render_main(int argc, char **argv)
   // Z: the volume's opacity-weighted depth, then the terrain or ground behind what it lets through.
   sl_image_opaque_depth(&cam, opaque.data(), &background);
   sl_image_depth_over(&volume, &background, &frame_img);
+  // The lamps through the volume renderer's transmittance to them (their rays stopped there).
+  sl_point_lights_draw(night.pixels.data(), (int)night.pixels.size(), volume.transparency, &frame_img,
+                       night.source_mask.empty() ? nullptr : night.source_mask.data());
 #ifdef SL_WITHOUT_APSF
   if (fog_km > 0) {
     rc = sl::fail(cmd, "--fog-visibility-km needs the glow module (render/apsf), which this build left out", 2);
@@ -429,17 +448,26 @@ static int render_main(int argc, char **argv)
     gp.medium = media[1];
     gp.sigma = sl_koschmieder_extinction(fog_km * 1000.0);
     gp.sky_distance = fog_sky_km * 1000.0;
-    /* A fog bank of that depth in front of the camera: farther things are seen through all of it
-     * (the glow model reads each pixel's depth as its distance inside the medium). */
-    std::vector<float> saved_depth(frame_img.depth, frame_img.depth + (size_t)cam.width * cam.height);
-    for (size_t i = 0; i < saved_depth.size(); ++i)
-      if (!(frame_img.depth[i] < gp.sky_distance)) frame_img.depth[i] = (float)gp.sky_distance;
+    /* A fog bank of that depth in front of the camera: farther things are seen through all of it. */
+    gp.bank_depth = gp.sky_distance;
     gp.fov_y_deg = cam.fov_deg;
-    gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk, lights */
+    gp.threshold = 1.0; /* radiance above the sun's irradiance per steradian: the sun's disk */
+    if (!night.source_mask.empty()) gp.source_mask = night.source_mask.data(); /* and the lamps */
+    // Eq. 31: the bank's airlight from the diffuse light of sky and ground (app/night_scene.h).
+    std::vector<float> airlight_map;
+    {
+      std::string why;
+      const sl_apsf_medium *const channel_media[3] = {&media[0], &media[1], &media[2]};
+      if (!sl::fog_airlight(with_air ? &atmosphere : nullptr, scene.sun_direction, cam, night.night_sky,
+                            channel_media, &airlight_map, &why)) {
+        rc = sl::fail(cmd, why);
+        goto done;
+      }
+      gp.airlight_map = airlight_map.data();
+    }
     sl_glow_workspace *ws = sl_glow_workspace_create(cam.width, cam.height, 0, 0, &err);
     const int g = ws ? sl_glow_apply(ws, &gp, &frame_img, &frame_img, nullptr, &err) : 1;
     sl_glow_workspace_free(ws);
-    std::copy(saved_depth.begin(), saved_depth.end(), frame_img.depth);
     if (g) {
       rc = sl::fail(cmd, std::string("fog glow: ") + err.message);
       goto done;

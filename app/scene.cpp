@@ -34,6 +34,22 @@ void declare_map_options(Options &o)
   o.flag("scale-bar", "draw a scale bar in the domain's south-west corner");
 }
 
+// Night and emissive lights (app/night_scene.*, docs/SCENES.md "Night and lights"): declared here
+// for the same reason as the map options.
+void declare_night_options(Options &o)
+{
+  o.option("night-sky-luminance", "CD_M2", "luminance of the sky above the horizon, cd/m^2, added to the analytic sky (which\n"
+           "is 0 once the sun is down): e.g. 2e-4 for a moonless natural night sky", "0");
+  o.option("lights-count", "NX,NY", "a town of NX x NY emissive street lamps on the ground (default: none)");
+  o.option("lights-center", "X,Y", "the town's centre, metres east, north in the world frame", "0,0");
+  o.option("lights-spacing", "M", "distance between neighbouring lamps", "150");
+  o.option("lights-height", "M", "lamp height above the ground (the file's HGT)", "10");
+  o.option("lights-jitter", "F", "each lamp moved by up to +-F/2 of the spacing (seeded, reproducible)", "0.6");
+  o.option("lights-intensity-cd", "CD", "luminous intensity of one lamp toward the camera, cd (isotropic)", "1000");
+  o.option("lights-color", "R,G,B", "lamp colour as relative linear-sRGB weights (scaled to unit luminance; default: high-pressure\n"
+           "sodium, chromaticity x 0.52, y 0.42)", "1,0.29,0.01");
+}
+
 void declare_render_options(Options &o)
 {
   o.option("out", "FILES", "output image(s), comma-separated: .exr (linear HDR) and/or .png (tone-mapped)");
@@ -75,6 +91,7 @@ void declare_render_options(Options &o)
   o.flag("float", "write 32-bit float EXR channels instead of half");
   declare_load_options(o);
   declare_map_options(o);  // the scene around the storm: terrain and map layers
+  declare_night_options(o);
 }
 
 bool scene_to_arguments(const std::string &path, std::vector<std::string> *args, std::string *error)

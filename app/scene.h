@@ -15,6 +15,8 @@ namespace sl {
 void declare_render_options(Options &o);
 // The terrain and map-layer options (read by read_map_options, app/terrain_scene.h).
 void declare_map_options(Options &o);
+// Night-sky luminance and the emissive town lights (read by app/night_scene.h).
+void declare_night_options(Options &o);
 
 // Reads a scene file into render arguments: "data" becomes the positional FILE (relative paths
 // are taken relative to the scene file's folder), every other key "--key value" (booleans

@@ -179,6 +179,75 @@ int sl_glow_convolve(sl_glow_workspace *ws, const sl_glow_kernel *k, const float
   return SL_OK;
 }
 
+double sl_airlight_path(double scene_radiance, double horizon_brightness, double T)
+{
+  const double t = exp(-T);
+  return scene_radiance * t + horizon_brightness * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
+}
+
+/* The part of the cone of directions s at angle acos(mu) around a sight line d at elevation e
+ * that lies above the horizontal: s_z = mu sin e + sqrt(1 - mu^2) cos e cos(phi) > 0. */
+static double cone_share_above(double mu, double sin_e, double cos_e)
+{
+  const double s = sqrt(fmax(0.0, 1.0 - mu * mu)), z = mu * sin_e;
+  if (s * cos_e <= 0.0) return z > 0.0 ? 1.0 : z < 0.0 ? 0.0 : 0.5; /* the cone is one direction */
+  const double c = -z / (s * cos_e);
+  return acos(c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c) / SL_PI;
+}
+
+/* The cosine mu at which Henyey-Greenstein's cumulative distribution over mu reaches u:
+ * C(mu) = (1 - q^2) / (2 q) (1 / sqrt(1 + q^2 - 2 q mu) - 1 / (1 + q)). */
+static double hg_inverse_cdf(double q, double u)
+{
+  if (fabs(q) < 1e-9) return 2.0 * u - 1.0;
+  const double t = (1.0 - q * q) / (1.0 - q + 2.0 * q * u);
+  const double mu = (1.0 + q * q - t * t) / (2.0 * q);
+  return mu > 1.0 ? 1.0 : mu < -1.0 ? -1.0 : mu;
+}
+static double hg_cdf(double q, double mu)
+{
+  if (fabs(q) < 1e-9) return 0.5 * (mu + 1.0);
+  return (1.0 - q * q) / (2.0 * q) * (1.0 / sqrt(1.0 + q * q - 2.0 * q * mu) - 1.0 / (1.0 + q));
+}
+
+double sl_airlight_upper_share(double q, double elevation_rad)
+{
+  /* In u = C(mu) the phase function's weight is uniform (its sharp forward peak is gone), so F is
+   * the mean of a(mu(u), e) over u in [0, 1]: Gauss-Legendre on the pieces between the kinks of
+   * a at mu = -cos e and cos e. */
+  enum { N = 96 };
+  double x[N], w[N];
+  sl_gauss_legendre(N, x, w);
+  const double sin_e = sin(elevation_rad), cos_e = cos(elevation_rad), k = fabs(cos_e);
+  const double edges[4] = {0.0, hg_cdf(q, -k), hg_cdf(q, k), 1.0};
+  double share = 0.0;
+  for (int p = 0; p < 3; ++p) {
+    const double h = 0.5 * (edges[p + 1] - edges[p]);
+    if (!(h > 0.0)) continue;
+    for (int i = 0; i < N; ++i)
+      share += h * w[i] * cone_share_above(hg_inverse_cdf(q, edges[p] + h * (x[i] + 1.0)), sin_e, cos_e);
+  }
+  return share;
+}
+
+double sl_airlight_source(double albedo, double q, double elevation_rad, double radiance_up, double radiance_down)
+{
+  const double F = sl_airlight_upper_share(q, elevation_rad);
+  return albedo * (radiance_up * F + radiance_down * (1.0 - F));
+}
+
+/* A source: inside the medium (T > 0) and bright enough, or marked by the caller. */
+static int is_source(const sl_glow_params *p, const float *px, double T, size_t i)
+{
+  if (!(T > 0.0)) return 0;
+  return (p->source_mask && p->source_mask[i]) || fmax(px[0], fmax(px[1], px[2])) >= p->threshold;
+}
+
+static double airlight_at(const sl_glow_params *p, size_t i, int c)
+{
+  return p->airlight_map ? p->airlight_map[3 * i + c] : p->airlight[c];
+}
+
 static double channel_scale(const sl_glow_params *p, int c)
 {
   return p->channel_sigma_scale[c] > 0.0 ? p->channel_sigma_scale[c] : 1.0;
@@ -248,12 +317,12 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
           break;
         }
         const double u = (x + 0.5 - 0.5 * W) / f, v = (y + 0.5 - 0.5 * H) / f;
-        if (isinf(z)) T = p->sky_distance > 0.0 ? p->sigma * p->sky_distance : NAN;
-        else T = p->sigma * z * sqrt(1.0 + u * u + v * v);
+        double distance = isinf(z) ? (p->sky_distance > 0.0 ? p->sky_distance : NAN) : z * sqrt(1.0 + u * u + v * v);
+        if (p->bank_depth > 0.0 && distance > p->bank_depth) distance = p->bank_depth;
+        T = p->sigma * distance;
       }
       Tpx[i] = T;
-      const double peak = fmax(px[0], fmax(px[1], px[2]));
-      if (T > 0.0 && peak >= p->threshold) {
+      if (is_source(p, px, T, i)) {
         ++sources;
         if (T < Tmin) Tmin = T;
         if (T > Tmax) Tmax = T;
@@ -285,7 +354,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     for (size_t i = 0; i < npx; ++i) {
       const float *px = in->rgba + 4 * i;
       double w = 0.0;
-      if (Tpx[i] > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold) {
+      if (is_source(p, px, Tpx[i], i)) {
         const double d = L > 1 ? fabs((log(Tpx[i]) - lmin) / lstep - l) : 0.0;
         w = d < 1.0 ? 1.0 - d : 0.0;
       }
@@ -337,15 +406,16 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       const float *px = in->rgba + 4 * i;
       float *o = out->rgba + 4 * i;
       const double T = Tpx[i];
-      const int is_source = T > 0.0 && fmax(px[0], fmax(px[1], px[2])) >= p->threshold;
+      const int source = is_source(p, px, T, i);
       const float a = px[3];
       for (int c = 0; c < 3; ++c) {
         double base = px[c];
-        if (is_source) {
-          base = 0.0; /* all of it is in the glow, the unscattered beam included (the kernel's Dirac) */
+        if (source) {
+          /* All of it is in the glow, the unscattered beam included (the kernel's Dirac); the
+           * medium in front of the source still adds its airlight. */
+          base = p->attenuate ? sl_airlight_path(0.0, airlight_at(p, i, c), T * channel_scale(p, c)) : 0.0;
         } else if (T > 0.0 && p->attenuate) {
-          const double t = exp(-T * channel_scale(p, c));
-          base = px[c] * t + p->airlight[c] * (1.0 - t); /* Narasimhan et al., eqs. 30-31 */
+          base = sl_airlight_path(px[c], airlight_at(p, i, c), T * channel_scale(p, c));
         }
         o[c] = (float)(base + glow[c][i]);
       }

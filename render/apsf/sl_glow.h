@@ -79,13 +79,21 @@ typedef struct sl_glow_params {
   double fixed_T;       /* > 0: every pixel at this T and depth is not read */
   double sky_distance;  /* distance (m) given to pixels of infinite depth; <= 0: such pixels are
                            neither sources nor attenuated (the sky is outside the medium) */
+  double bank_depth;    /* > 0: the medium is a bank of this depth (m) in front of the camera: a
+                           pixel's distance inside it is clipped to this (farther things, lights
+                           beyond the bank included, are seen through all of it) */
   double fov_y_deg;     /* vertical field of view of the pinhole that made the image */
   double threshold;     /* a pixel is a source when its largest RGB value reaches this */
+  /* Optional, width x height: pixels marked non-zero are sources whatever their value (emissive
+   * lights drawn into the frame, sl_point_lights.h, fainter than any useful threshold). */
+  const unsigned char *source_mask;
   int n_layers;         /* at most this many depth layers (1..64), evenly spaced in log T over the
                            sources and no closer than 2 % in T */
   sl_glow_norm norm;
   int attenuate;        /* eq. 30: e^{-T} on pixels that are not sources */
-  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to pixels that are not sources */
+  double airlight[3];   /* eq. 31: L_sky (1 - e^{-T}) added to every pixel: the medium's source
+                           function J (sl_airlight_source) */
+  const float *airlight_map; /* optional, 3 floats per pixel: J per pixel instead of airlight[] */
   double tolerance;     /* series tolerance (sl_apsf_terms_needed) */
   void (*progress)(void *user, double fraction);
   void *progress_user;
@@ -97,6 +105,32 @@ void sl_glow_params_defaults(sl_glow_params *p);
  * medium with q = the aerosol's asymmetry g and W0 its albedo, and the extinction relative to
  * 550 nm, where Koschmieder's visibility defines sigma (for channel_sigma_scale). */
 int sl_glow_haze_media(const double wavelengths_nm[3], sl_apsf_medium media[3], double sigma_scale[3], sl_error *err);
+
+/* Narasimhan et al., eqs. 30-31 without the glow: a scene radiance L0 seen through optical
+ * thickness T of a medium whose source function J (the horizon brightness L_sky: what an
+ * infinitely deep path of the medium shows) is the same all along the path,
+ *   L = L0 e^{-T} + J (1 - e^{-T}),
+ * the solution of dL/dtau = -L + J (docs/APSF.md, "Airlight", checks it by quadrature). */
+double sl_airlight_path(double scene_radiance, double horizon_brightness, double T);
+
+/* The share of a normalised Henyey-Greenstein phase function (asymmetry q) that points into the
+ * upper hemisphere for a sight line d at elevation e (radians): light arriving from direction s
+ * is scattered toward the eye through the angle whose cosine is mu = s.d (forward scattering
+ * brings the light from beyond the point along the sight line), so
+ *   F(e) = 2 pi int_{-1}^{1} p_HG(mu) a(mu, e) dmu,
+ * a(mu, e) = acos(clamp(-mu tan e / sqrt(1 - mu^2))) / pi the part of the cone of half-angle
+ * acos(mu) around d that lies above the horizontal. F(0) = 1/2 for every q: mirroring
+ * z -> -z keeps the scattering angle of a horizontal ray. Integrated in HG's cumulative
+ * distribution (where the phase weight is uniform) by Gauss-Legendre on the three pieces
+ * between the cone's tangencies mu = +-cos e. */
+double sl_airlight_upper_share(double q, double elevation_rad);
+
+/* J of a medium of single-scattering albedo W0 and asymmetry q lit by diffuse light that is
+ * uniform over the upper hemisphere (radiance L_up: the sky) and over the lower one (L_down: the
+ * ground), along a sight line at elevation e: single scattering of that light,
+ *   J = W0 (L_up F(e) + L_down (1 - F(e))),
+ * the eq. 31 L_sky of that sight line (docs/APSF.md, "Airlight"). */
+double sl_airlight_source(double albedo, double q, double elevation_rad, double radiance_up, double radiance_down);
 
 #define SL_GLOW_MAX_LAYERS 64
 typedef struct sl_glow_stats {

@@ -9,6 +9,7 @@
 
 static const sl_aerosol_model RURAL = {
     "rural",
+    /* Sizes and fractions checked against two quotations of the report's Tables 1-2 (sl_aerosol.h). */
     "Shettle & Fenn 1979 (AFGL-TR-79-0214), rural aerosol at 0 % RH: lognormal modes 0.027 um (sigma_log10 0.35, "
     "N fraction 0.999875) and 0.43 um (0.40, 1.25e-4), m = 1.53 - 0.0066 i",
     2,

@@ -9,7 +9,16 @@
  *     r_1 = 0.027 um, sigma_1 = 0.35, N_1 / N = 0.999875;  r_2 = 0.43 um, sigma_2 = 0.40, N_2 / N = 1.25e-4,
  * refractive index 1.53 - 0.0066 i near 550 nm, taken constant over 440-650 nm (its real part
  * varies by < 0.5 % and its imaginary part by tens of per cent over the visible in the report's
- * tables; the albedo is what the imaginary part moves). Humidity growth is not modelled. */
+ * tables; the albedo is what the imaginary part moves). Humidity growth is not modelled.
+ *
+ * Digits checked (docs/APSF.md, "Haze"): the composition (0.7 / 0.3), both mode radii, both
+ * widths and both number fractions agree with quotations of the report's Tables 1-2 at 0 % RH:
+ * the table "Modele d'aerosol" of "Initiation a la science des aerosols" (studylibfr.com/doc/
+ * 624041, "adapte de Shettle and Fenn (1979) pour une humidite relative de 0 %": 0.999875,
+ * 0.027 um, 0.35; 0.000125, 0.43 um, 0.4) and, except the radii, Eradiate's Shettle & Fenn
+ * module (eradiate/eradiate, SIZE_DISTRIBUTION_PARAMS, COMPOSITION). The refractive index was
+ * not found in a quotable source in reach: it is the report's value as first transcribed,
+ * unverified. */
 #ifndef SL_AEROSOL_H
 #define SL_AEROSOL_H
 

@@ -82,4 +82,22 @@ static inline double ref_hg(double q, double c)
   return (1.0 - q * q) / (d * sqrt(d));
 }
 
+/* int g(u, v) du dv over [x0, x1] x [y0, y1]: Gauss-Legendre, panels x panels panels of 24 x 24
+ * nodes (the 2D PSF over an image plane). */
+static inline double ref_plane_integral(double (*g)(const void *, double, double), const void *user, double x0,
+                                        double x1, double y0, double y1, int panels)
+{
+  double x[24], w[24];
+  ref_gauss(24, x, w);
+  const double sx = (x1 - x0) / panels, sy = (y1 - y0) / panels;
+  double integral = 0.0;
+  for (int pj = 0; pj < panels; ++pj)
+    for (int pi = 0; pi < panels; ++pi)
+      for (int j = 0; j < 24; ++j)
+        for (int i = 0; i < 24; ++i)
+          integral += 0.25 * sx * sy * w[i] * w[j] *
+                      g(user, x0 + sx * (pi + 0.5 + 0.5 * x[i]), y0 + sy * (pj + 0.5 + 0.5 * x[j]));
+  return integral;
+}
+
 #endif
