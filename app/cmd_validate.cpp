@@ -331,7 +331,7 @@ int sl_cmd_validate(int argc, char **argv)
                 "reference_stderr.exr, reference.json), which a later --ref can reuse.");
   o.option("scene", "FILE", "a `stormlight render` scene (docs/SCENES.md)");
   o.option("out", "DIR", "report folder (created)");
-  o.option("ref", "FILE.exr", "a reference.exr of an earlier report, with reference_stderr.exr and reference.json beside it");
+  o.option("ref", "FILE.exr[,...]", "a reference.exr of an earlier report, with reference_stderr.exr and reference.json beside it; several independent ones (other --seed) are pooled");
   o.option("spp", "N", "reference: samples per pixel and wavelength", "256");
   o.option("seconds", "T", "reference: stop after whole passes once T seconds have passed (0: no limit)", "0");
   o.option("seed", "N", "reference: random seed", "1");
@@ -461,39 +461,73 @@ int sl_cmd_validate(int argc, char **argv)
   rsc.seed = (unsigned long long)seed;
   rsc.roulette_depth = (int)roulette_depth;
   if (o.has("ref")) {
-    const std::string path = o.str("ref");
-    if (!ends_with(path, ".exr")) return sl::fail(kCmd, path + ": --ref must name an .exr", 2);
-    const std::string stem = path.substr(0, path.size() - 4);
-    sl_image se_img{};
-    if (sl_read_exr(path.c_str(), &ref.layer, &err) || sl_read_exr((stem + "_stderr.exr").c_str(), &se_img, &err))
-      return sl::fail(kCmd, err.message, 2);
-    std::unique_ptr<sl_image, void (*)(sl_image *)> se_guard(&se_img, sl_image_free);
-    if (ref.layer.width != cam.width || ref.layer.height != cam.height || se_img.width != cam.width ||
-        se_img.height != cam.height)
-      return sl::fail(kCmd, path + ": the reference is " + std::to_string(ref.layer.width) + "x" +
-                                std::to_string(ref.layer.height) + ", the scene's camera " +
-                                std::to_string(cam.width) + "x" + std::to_string(cam.height), 2);
-    std::ifstream in(stem + ".json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::unique_ptr<cJSON, void (*)(cJSON *)> meta(cJSON_Parse(ss.str().c_str()), cJSON_Delete);
-    const cJSON *jspp = meta ? cJSON_GetObjectItem(meta.get(), "spp") : nullptr;
-    const cJSON *jsec = meta ? cJSON_GetObjectItem(meta.get(), "seconds") : nullptr;
-    const cJSON *jwl = meta ? cJSON_GetObjectItem(meta.get(), "wavelengths") : nullptr;
-    const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
-    if (!cJSON_IsNumber(jspp) || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
-      return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
-    ref.spp = (long)jspp->valuedouble, ref.seconds = jsec->valuedouble;
-    if (ref.wavelengths != jwl->valuestring)
-      return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
-                                ref.wavelengths, 2);
-    ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
+    // One reference, or several independent ones of the same scene (other seeds), comma-separated:
+    // their means are pooled weighted by their samples, the standard errors accordingly, and their
+    // times added, as if one run had taken all the samples.
+    std::vector<std::string> paths;
+    {
+      std::stringstream list(o.str("ref"));
+      std::string p;
+      while (std::getline(list, p, ','))
+        if (!p.empty()) paths.push_back(p);
+    }
+    if (paths.empty()) return sl::fail(kCmd, "--ref names no file", 2);
+    std::vector<double> sum(4 * np, 0.0), var(3 * np, 0.0);
+    std::vector<double> seeds;
+    for (size_t i = 0; i < paths.size(); ++i) {
+      const std::string &path = paths[i];
+      if (!ends_with(path, ".exr")) return sl::fail(kCmd, path + ": --ref must name an .exr", 2);
+      const std::string stem = path.substr(0, path.size() - 4);
+      sl_image layer{}, se_img{};
+      std::unique_ptr<sl_image, void (*)(sl_image *)> layer_guard(&layer, sl_image_free), se_guard(&se_img, sl_image_free);
+      if (sl_read_exr(path.c_str(), &layer, &err) || sl_read_exr((stem + "_stderr.exr").c_str(), &se_img, &err))
+        return sl::fail(kCmd, err.message, 2);
+      if (layer.width != cam.width || layer.height != cam.height || se_img.width != cam.width ||
+          se_img.height != cam.height)
+        return sl::fail(kCmd, path + ": the reference is " + std::to_string(layer.width) + "x" +
+                                  std::to_string(layer.height) + ", the scene's camera " + std::to_string(cam.width) +
+                                  "x" + std::to_string(cam.height), 2);
+      std::ifstream in(stem + ".json");
+      std::stringstream ss;
+      ss << in.rdbuf();
+      std::unique_ptr<cJSON, void (*)(cJSON *)> meta(cJSON_Parse(ss.str().c_str()), cJSON_Delete);
+      const cJSON *jspp = meta ? cJSON_GetObjectItem(meta.get(), "spp") : nullptr;
+      const cJSON *jsec = meta ? cJSON_GetObjectItem(meta.get(), "seconds") : nullptr;
+      const cJSON *jwl = meta ? cJSON_GetObjectItem(meta.get(), "wavelengths") : nullptr;
+      const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
+      const cJSON *jseed = meta ? cJSON_GetObjectItem(meta.get(), "seed") : nullptr;
+      if (!cJSON_IsNumber(jspp) || jspp->valuedouble < 1 || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
+        return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
+      if (ref.wavelengths != jwl->valuestring)
+        return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
+                                  ref.wavelengths, 2);
+      if (paths.size() > 1) {
+        // Pooling is only right for independent runs.
+        if (!cJSON_IsNumber(jseed)) return sl::fail(kCmd, stem + ".json: no seed, so it cannot be pooled", 2);
+        if (std::find(seeds.begin(), seeds.end(), jseed->valuedouble) != seeds.end())
+          return sl::fail(kCmd, stem + ".json: seed " + fmt("%g", jseed->valuedouble) +
+                                    " repeats an earlier --ref: the runs are not independent", 2);
+        seeds.push_back(jseed->valuedouble);
+      }
+      const double n = jspp->valuedouble;
+      for (size_t q = 0; q < np; ++q) {
+        for (int c = 0; c < 4; ++c) sum[4 * q + c] += n * layer.rgba[4 * q + c];
+        for (int c = 0; c < 3; ++c) var[3 * q + c] += n * n * (double)se_img.rgba[4 * q + c] * se_img.rgba[4 * q + c];
+      }
+      ref.spp += (long)n, ref.seconds += jsec->valuedouble;
+      if (i == 0) {
+        ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
+        std::swap(ref.layer, layer);  // the first keeps its depth; the others' radiance is pooled below
+      }
+    }
     ref.se.resize(3 * np);
+    const double total = (double)ref.spp;
     for (size_t q = 0; q < np; ++q) {
-      for (int c = 0; c < 3; ++c) ref.se[3 * q + c] = se_img.rgba[4 * q + c];
+      for (int c = 0; c < 4; ++c) ref.layer.rgba[4 * q + c] = (float)(sum[4 * q + c] / total);
+      for (int c = 0; c < 3; ++c) ref.se[3 * q + c] = (float)(std::sqrt(var[3 * q + c]) / total);
       ref.layer.transparency[q] = 1.0f - ref.layer.rgba[4 * q + 3];
     }
-    ref.origin = path;
+    ref.origin = o.str("ref");
   } else {
     sl_ref_accum acc{};
     if (sl_ref_accum_init(&acc, cam.width, cam.height, sl_ref_medium_wavelength_count(medium.get()), &err) ||
