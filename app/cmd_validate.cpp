@@ -135,7 +135,7 @@ bool write_text(const std::string &path, const std::string &body, std::string *w
 
 // The variants: one axis at a time away from the scene's own setting, plus two cheap combinations
 // for the fast end of the Pareto front.
-std::vector<Setting> variants(const Setting &base, bool quick)
+std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_allowed)
 {
   std::vector<Setting> v;
   auto add = [&](const std::string &family, const std::string &name, auto change) {
@@ -158,7 +158,9 @@ std::vector<Setting> variants(const Setting &base, bool quick)
     add("max order", "max order " + std::to_string(n), [n](Setting &s) { s.max_order = n; });
   add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
   add("lighting", "low albedo", [](Setting &s) { s.lighting = SL_LIGHTING_LOW_ALBEDO; });
-  add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
+  // A scene without air (no-atmosphere) is rgb only (render_scene), so it has no spectral variant.
+  if (spectral_allowed)
+    add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
   for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
     if (xi != base.xi) add("xi", "xi " + fmt("%g", xi), [xi](Setting &s) { s.xi = xi; });
   add("light volume", "light volume", [](Setting &s) { s.light_volume = true; });
@@ -583,7 +585,7 @@ int sl_cmd_validate(int argc, char **argv)
   std::vector<Row> rows;
   std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
   double floor = 0;
-  for (const Setting &s : variants(base, o.has("quick"))) {
+  for (const Setting &s : variants(base, o.has("quick"), rs.with_air)) {
     sl_scene sc;
     if (!scene_for(s, &sc)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
     Row row;
