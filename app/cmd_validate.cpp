@@ -135,7 +135,7 @@ bool write_text(const std::string &path, const std::string &body, std::string *w
 
 // The variants: one axis at a time away from the scene's own setting, plus two cheap combinations
 // for the fast end of the Pareto front.
-std::vector<Setting> variants(const Setting &base, bool quick)
+std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_allowed)
 {
   std::vector<Setting> v;
   auto add = [&](const std::string &family, const std::string &name, auto change) {
@@ -158,7 +158,9 @@ std::vector<Setting> variants(const Setting &base, bool quick)
     add("max order", "max order " + std::to_string(n), [n](Setting &s) { s.max_order = n; });
   add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
   add("lighting", "low albedo", [](Setting &s) { s.lighting = SL_LIGHTING_LOW_ALBEDO; });
-  add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
+  // A scene without air (no-atmosphere) is rgb only (render_scene), so it has no spectral variant.
+  if (spectral_allowed)
+    add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
   for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
     if (xi != base.xi) add("xi", "xi " + fmt("%g", xi), [xi](Setting &s) { s.xi = xi; });
   add("light volume", "light volume", [](Setting &s) { s.light_volume = true; });
@@ -331,10 +333,11 @@ int sl_cmd_validate(int argc, char **argv)
                 "reference_stderr.exr, reference.json), which a later --ref can reuse.");
   o.option("scene", "FILE", "a `stormlight render` scene (docs/SCENES.md)");
   o.option("out", "DIR", "report folder (created)");
-  o.option("ref", "FILE.exr", "a reference.exr of an earlier report, with reference_stderr.exr and reference.json beside it");
+  o.option("ref", "FILE.exr[,...]", "a reference.exr of an earlier report, with reference_stderr.exr and reference.json beside it; several independent ones (other --seed) are pooled");
   o.option("spp", "N", "reference: samples per pixel and wavelength", "256");
   o.option("seconds", "T", "reference: stop after whole passes once T seconds have passed (0: no limit)", "0");
   o.option("seed", "N", "reference: random seed", "1");
+  o.option("roulette-depth", "N", "reference: scatterings before Russian roulette at survival 0.98 (0: the library's 16)", "0");
   o.option("width", "PX", "override the scene's image width");
   o.option("height", "PX", "override the scene's image height");
   o.option("block", "B", "compare means over B x B pixel blocks (the reference's noise falls by B)", "1");
@@ -349,9 +352,10 @@ int sl_cmd_validate(int argc, char **argv)
   const int early = sl::parse_or_exit(o, argc, argv);
   if (early >= 0) return early;
   if (!o.has("scene") || !o.has("out")) return sl::fail(kCmd, "--scene FILE and --out DIR are required", 2);
-  long spp, seed, repeat, threads, block;
+  long spp, seed, repeat, threads, block, roulette_depth;
   double max_seconds, interactive, max_error = INFINITY;
   if (!o.integer("spp", &spp, 1, 100000000) || !o.integer("seed", &seed, 0, 0x7fffffffffffffffL) ||
+      !o.integer("roulette-depth", &roulette_depth, 0, 100000000) ||
       !o.integer("repeat", &repeat, 1, 100) || !o.integer("block", &block, 1, 64) || !o.integer("threads", &threads, 0, 4096) ||
       !o.number("seconds", &max_seconds) || !o.number("interactive", &interactive) ||
       (o.has("max-error") && !o.number("max-error", &max_error)))
@@ -457,40 +461,75 @@ int sl_cmd_validate(int argc, char **argv)
   rsc.atmosphere = rs.with_air ? &air[base.spectral] : nullptr;
   for (int c = 0; c < 3; ++c) rsc.sky_radiance[c] = rs.sky[c];
   rsc.seed = (unsigned long long)seed;
+  rsc.roulette_depth = (int)roulette_depth;
   if (o.has("ref")) {
-    const std::string path = o.str("ref");
-    if (!ends_with(path, ".exr")) return sl::fail(kCmd, path + ": --ref must name an .exr", 2);
-    const std::string stem = path.substr(0, path.size() - 4);
-    sl_image se_img{};
-    if (sl_read_exr(path.c_str(), &ref.layer, &err) || sl_read_exr((stem + "_stderr.exr").c_str(), &se_img, &err))
-      return sl::fail(kCmd, err.message, 2);
-    std::unique_ptr<sl_image, void (*)(sl_image *)> se_guard(&se_img, sl_image_free);
-    if (ref.layer.width != cam.width || ref.layer.height != cam.height || se_img.width != cam.width ||
-        se_img.height != cam.height)
-      return sl::fail(kCmd, path + ": the reference is " + std::to_string(ref.layer.width) + "x" +
-                                std::to_string(ref.layer.height) + ", the scene's camera " +
-                                std::to_string(cam.width) + "x" + std::to_string(cam.height), 2);
-    std::ifstream in(stem + ".json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::unique_ptr<cJSON, void (*)(cJSON *)> meta(cJSON_Parse(ss.str().c_str()), cJSON_Delete);
-    const cJSON *jspp = meta ? cJSON_GetObjectItem(meta.get(), "spp") : nullptr;
-    const cJSON *jsec = meta ? cJSON_GetObjectItem(meta.get(), "seconds") : nullptr;
-    const cJSON *jwl = meta ? cJSON_GetObjectItem(meta.get(), "wavelengths") : nullptr;
-    const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
-    if (!cJSON_IsNumber(jspp) || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
-      return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
-    ref.spp = (long)jspp->valuedouble, ref.seconds = jsec->valuedouble;
-    if (ref.wavelengths != jwl->valuestring)
-      return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
-                                ref.wavelengths, 2);
-    ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
+    // One reference, or several independent ones of the same scene (other seeds), comma-separated:
+    // their means are pooled weighted by their samples, the standard errors accordingly, and their
+    // times added, as if one run had taken all the samples.
+    std::vector<std::string> paths;
+    {
+      std::stringstream list(o.str("ref"));
+      std::string p;
+      while (std::getline(list, p, ','))
+        if (!p.empty()) paths.push_back(p);
+    }
+    if (paths.empty()) return sl::fail(kCmd, "--ref names no file", 2);
+    std::vector<double> sum(4 * np, 0.0), var(3 * np, 0.0);
+    std::vector<double> seeds;
+    for (size_t i = 0; i < paths.size(); ++i) {
+      const std::string &path = paths[i];
+      if (!ends_with(path, ".exr")) return sl::fail(kCmd, path + ": --ref must name an .exr", 2);
+      const std::string stem = path.substr(0, path.size() - 4);
+      sl_image layer{}, se_img{};
+      std::unique_ptr<sl_image, void (*)(sl_image *)> layer_guard(&layer, sl_image_free), se_guard(&se_img, sl_image_free);
+      if (sl_read_exr(path.c_str(), &layer, &err) || sl_read_exr((stem + "_stderr.exr").c_str(), &se_img, &err))
+        return sl::fail(kCmd, err.message, 2);
+      if (layer.width != cam.width || layer.height != cam.height || se_img.width != cam.width ||
+          se_img.height != cam.height)
+        return sl::fail(kCmd, path + ": the reference is " + std::to_string(layer.width) + "x" +
+                                  std::to_string(layer.height) + ", the scene's camera " + std::to_string(cam.width) +
+                                  "x" + std::to_string(cam.height), 2);
+      std::ifstream in(stem + ".json");
+      std::stringstream ss;
+      ss << in.rdbuf();
+      std::unique_ptr<cJSON, void (*)(cJSON *)> meta(cJSON_Parse(ss.str().c_str()), cJSON_Delete);
+      const cJSON *jspp = meta ? cJSON_GetObjectItem(meta.get(), "spp") : nullptr;
+      const cJSON *jsec = meta ? cJSON_GetObjectItem(meta.get(), "seconds") : nullptr;
+      const cJSON *jwl = meta ? cJSON_GetObjectItem(meta.get(), "wavelengths") : nullptr;
+      const cJSON *jthr = meta ? cJSON_GetObjectItem(meta.get(), "threads") : nullptr;
+      const cJSON *jseed = meta ? cJSON_GetObjectItem(meta.get(), "seed") : nullptr;
+      if (!cJSON_IsNumber(jspp) || jspp->valuedouble < 1 || !cJSON_IsNumber(jsec) || !cJSON_IsString(jwl))
+        return sl::fail(kCmd, stem + ".json: missing or without spp, seconds and wavelengths", 2);
+      if (ref.wavelengths != jwl->valuestring)
+        return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
+                                  ref.wavelengths, 2);
+      if (paths.size() > 1) {
+        // Pooling is only right for independent runs.
+        if (!cJSON_IsNumber(jseed)) return sl::fail(kCmd, stem + ".json: no seed, so it cannot be pooled", 2);
+        if (std::find(seeds.begin(), seeds.end(), jseed->valuedouble) != seeds.end())
+          return sl::fail(kCmd, stem + ".json: seed " + fmt("%g", jseed->valuedouble) +
+                                    " repeats an earlier --ref: the runs are not independent", 2);
+        seeds.push_back(jseed->valuedouble);
+      }
+      const double n = jspp->valuedouble;
+      for (size_t q = 0; q < np; ++q) {
+        for (int c = 0; c < 4; ++c) sum[4 * q + c] += n * layer.rgba[4 * q + c];
+        for (int c = 0; c < 3; ++c) var[3 * q + c] += n * n * (double)se_img.rgba[4 * q + c] * se_img.rgba[4 * q + c];
+      }
+      ref.spp += (long)n, ref.seconds += jsec->valuedouble;
+      if (i == 0) {
+        ref.threads = cJSON_IsNumber(jthr) ? (int)jthr->valuedouble : 0;
+        std::swap(ref.layer, layer);  // the first keeps its depth; the others' radiance is pooled below
+      }
+    }
     ref.se.resize(3 * np);
+    const double total = (double)ref.spp;
     for (size_t q = 0; q < np; ++q) {
-      for (int c = 0; c < 3; ++c) ref.se[3 * q + c] = se_img.rgba[4 * q + c];
+      for (int c = 0; c < 4; ++c) ref.layer.rgba[4 * q + c] = (float)(sum[4 * q + c] / total);
+      for (int c = 0; c < 3; ++c) ref.se[3 * q + c] = (float)(std::sqrt(var[3 * q + c]) / total);
       ref.layer.transparency[q] = 1.0f - ref.layer.rgba[4 * q + 3];
     }
-    ref.origin = path;
+    ref.origin = o.str("ref");
   } else {
     sl_ref_accum acc{};
     if (sl_ref_accum_init(&acc, cam.width, cam.height, sl_ref_medium_wavelength_count(medium.get()), &err) ||
@@ -518,6 +557,7 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddNumberToObject(meta, "seconds", ref.seconds);
     cJSON_AddNumberToObject(meta, "threads", ref.threads);
     cJSON_AddNumberToObject(meta, "seed", (double)seed);
+    cJSON_AddNumberToObject(meta, "roulette_depth", (double)roulette_depth);
     cJSON_AddStringToObject(meta, "wavelengths", ref.wavelengths.c_str());
     char *text = cJSON_Print(meta);
     const std::string body = std::string(text) + "\n";
@@ -545,7 +585,7 @@ int sl_cmd_validate(int argc, char **argv)
   std::vector<Row> rows;
   std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
   double floor = 0;
-  for (const Setting &s : variants(base, o.has("quick"))) {
+  for (const Setting &s : variants(base, o.has("quick"), rs.with_air)) {
     sl_scene sc;
     if (!scene_for(s, &sc)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
     Row row;
@@ -598,6 +638,20 @@ int sl_cmd_validate(int argc, char **argv)
   // Equal error: the reference's relative noise falls as 1/sqrt(spp) (its variance estimate), so
   // Monte Carlo needs T_ref (noise / e)^2 to reach a measured error e.
   const double noise = rows[0].all.noise_rmse();
+  // How concentrated the reference's noise is: the share of its variance (sum of se^2 over the
+  // volume's blocks) that its noisiest block carries. Near 1, a single firefly dominates the RMSE
+  // measures and the mean relative error is the one to read (docs/ACCURACY.md).
+  double worst_share = 0;
+  {
+    double total = 0, worst = 0;
+    for (size_t q = 0; q < nb; ++q) {
+      if (!cls[q]) continue;
+      double v = 0;
+      for (int c = 0; c < 3; ++c) v += ref_blocks.se[3 * q + c] * ref_blocks.se[3 * q + c];
+      total += v, worst = std::max(worst, v);
+    }
+    worst_share = total > 0 ? worst / total : 0;
+  }
   for (Row &r : rows) {
     const double e = r.all.relative_rmse();
     r.mc_seconds = e > 0 ? ref.seconds * (noise / e) * (noise / e) : INFINITY;
@@ -637,6 +691,7 @@ int sl_cmd_validate(int argc, char **argv)
   cJSON_AddNumberToObject(jr, "noise", noise);
   cJSON_AddNumberToObject(jr, "noise_thin", rows[0].thin.noise_rmse());
   cJSON_AddNumberToObject(jr, "noise_dense", rows[0].dense.noise_rmse());
+  cJSON_AddNumberToObject(jr, "noise_worst_block_share", worst_share);
   cJSON_AddStringToObject(jr, "equal_error_model",
                           "Monte Carlo seconds to reach error e = seconds * (noise / e)^2: the variance estimate, "
                           "which falls as 1/spp");
@@ -681,12 +736,12 @@ int sl_cmd_validate(int argc, char **argv)
           fmt("%.3f", r.all.noise_mean()) + " | " + cell(r.thin, r.thin.noise_mean()) + " | " +
           cell(r.dense, r.dense.noise_mean()) + " | | | | |\n";
   }
-  char head[512];
+  char head[640];
   std::snprintf(head, sizeof head,
                 "%s, %dx%d, compared in %ldx%ld blocks: %ld volume blocks (%ld thin, tau < 2; %ld dense); reference "
-                "%ld spp (%s) in %.1f s, %d threads.\n\n",
+                "%ld spp (%s) in %.1f s, %d threads; its noisiest block carries %.0f %% of its noise variance.\n\n",
                 scene_path.c_str(), cam.width, cam.height, block, block, rows[0].all.pixels, rows[0].thin.pixels,
-                rows[0].dense.pixels, ref.spp, ref.wavelengths.c_str(), ref.seconds, ref.threads);
+                rows[0].dense.pixels, ref.spp, ref.wavelengths.c_str(), ref.seconds, ref.threads, 100 * worst_share);
   md = head + md;
   if (best_interactive) {
     cJSON *b = cJSON_AddObjectToObject(root, "best_interactive");
