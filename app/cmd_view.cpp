@@ -205,6 +205,7 @@ class Viewer {
   sl_image hdr{}, volume{}, background{};
   std::string cpu_note;  // why the GPU pass could not draw the last frame (said once)
   double last_seconds = 0;
+  char parts[160] = "";  // where the last redraw's time went
   Change last_change = Change::Time;
 
   ~Viewer()
@@ -251,6 +252,7 @@ class Viewer {
     sl_error err{};
     bool ok = true;
     if (!session || state.time != session_time) change = Change::Time;
+    parts[0] = 0;
     if (change == Change::Time) ok = Prepare(&why);
     else if (change == Change::Sun) ok = session->set_sun(state.sun_el, state.sun_az, &why);
     else if (change == Change::Xi) session->set_xi(state.xi);
@@ -265,8 +267,13 @@ class Viewer {
       bool gpu_done = false;
       std::string gpu_note;
       sl_render_stats stats{};
-      ok = ok && session->draw(camera, true, &volume, &background, &stats, &gpu_done, &gpu_note, &why) &&
-           session->composite(camera, background, volume, &hdr, nullptr);
+      const double t1 = sl::now_seconds();
+      ok = ok && session->draw(camera, true, &volume, &background, &stats, &gpu_done, &gpu_note, &why);
+      const double t2 = sl::now_seconds();
+      ok = ok && session->composite(camera, background, volume, &hdr, nullptr);
+      std::snprintf(parts, sizeof parts, "(light %.3f, eye %.3f, sky+resolve %.3f, composite %.3f s)",
+                    stats.light_seconds, stats.eye_seconds, t2 - t1 - stats.light_seconds - stats.eye_seconds,
+                    sl::now_seconds() - t2);
       if (ok && !gpu_done && gpu_note != cpu_note)
         std::fprintf(stderr, "view: the GPU pass cannot draw this (%s); drawing on the CPU\n", gpu_note.c_str());
       if (ok) cpu_note = gpu_done ? "" : gpu_note;
@@ -508,7 +515,7 @@ bool play(Viewer &v, const std::string &path)
     }
     if (v.failures) return false;
     if (cmd != "save" && v.last_seconds > 0)
-      std::printf("view: %-12s %-32s %.3f s\n", line.c_str(), change_name(v.last_change), v.last_seconds);
+      std::printf("view: %-12s %-32s %.3f s %s\n", line.c_str(), change_name(v.last_change), v.last_seconds, v.parts);
     v.last_seconds = 0;
   }
   return true;
@@ -535,13 +542,14 @@ int sl_cmd_view(int argc, char **argv)
   for (std::string &s : args) cargv.push_back(&s[0]);
   sl::Options o("view", "FILE | --scene S [options]",
                 "An interactive window on a storm, drawn with the GPU pass (render --gpu; the CPU when the OpenGL\n"
-                "context cannot). Mouse: left drag orbits, the wheel zooms. Keys: arrows orbit; a/d sun azimuth\n"
-                "-/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
+                "context cannot). Mouse: left drag orbits, middle drag pans, the wheel zooms. Keys: arrows orbit;\n"
+                "i/j/k/l pan; a/d sun azimuth -/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
                 "t/T the series' time step -/+ 1; x/X xi -/+ 0.01; -/+ exposure; z/Z zoom; p saves the view\n"
                 "as PREFIX.json (a scene for render --scene) and PREFIX.exr. --script plays events and exits.");
   sl::declare_render_options(o);
   o.option("scene", "FILE.json", "start from a scene file");
-  o.option("script", "FILE", "play 'key SYM', 'drag DX DY', 'wheel N', 'save PREFIX' lines, then exit");
+  o.option("script", "FILE", "play 'key SYM', 'drag DX DY', 'pan DX DY', 'wheel N', 'save PREFIX' lines, then exit,\n"
+                       "printing what each cost");
   o.option("save", "PREFIX", "where 'p' saves the view", "view");
   const int early = sl::parse_or_exit(o, (int)cargv.size(), cargv.data());
   if (early >= 0) return early;
@@ -616,7 +624,7 @@ int sl_cmd_view(int argc, char **argv)
     v.interactor->Initialize();
     if (!v.Redraw(Change::Time)) rc = 1;
     else {
-      std::printf("view: %-12s %-32s %.3f s\n", "(open)", change_name(Change::Time), v.last_seconds);
+      std::printf("view: %-12s %-32s %.3f s %s\n", "(open)", change_name(Change::Time), v.last_seconds, v.parts);
       if (!play(v, o.str("script"))) rc = 1;
     }
   } else {
