@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "composite_pass.h"
 #include "render_scene.h"
+#include "render_session.h"
 #include "render_series.h"
 #include "gpu_render.h"
 #include "night_scene.h"
@@ -44,48 +45,6 @@ namespace {
 bool ends_with(const std::string &s, const std::string &suffix)
 {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-}  // namespace
-
-bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why);  // cmd_sun.cpp
-
-namespace {
-
-void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
-
-// Composites through VTK: background, VTK's props, the volume; reads the float frame back.
-bool composite_with_vtk(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
-                        const sl::TerrainScene *terrain)
-{
-  vtkSmartPointer<vtkRenderWindow> window = sl::offscreen_window(cam.width, cam.height);
-  vtkNew<vtkRenderer> renderer;
-  window->AddRenderer(renderer);
-  vtkCamera *camera = renderer->GetActiveCamera();
-  camera->SetPosition(cam.position);
-  camera->SetFocalPoint(cam.target);
-  camera->SetViewUp(cam.up);
-  camera->SetViewAngle(cam.fov_deg);
-  double distance = 0.0;
-  for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
-  distance = std::sqrt(distance);
-  camera->SetClippingRange(std::max(1.0, 1e-3 * distance), 1e3 * distance);
-
-  vtkNew<sl::CompositePass> pass;
-  vtkNew<vtkRenderStepsPass> steps;
-  pass->SetDelegatePass(steps);
-  pass->SetLayers(cam.width, cam.height, background.rgba, volume.rgba, volume.depth);
-  renderer->SetPass(pass);
-  if (terrain) terrain->add_props(renderer);
-  window->Render();
-  if (!pass->Succeeded() || pass->Result().size() != (size_t)cam.width * cam.height * 4) return false;
-  const std::vector<float> &px = pass->Result();
-  for (size_t i = 0; i < px.size(); ++i) out->rgba[i] = px[i];
-  for (size_t i = 0; i < (size_t)cam.width * cam.height; ++i) {
-    out->rgba[4 * i + 3] = volume.rgba[4 * i + 3];
-    out->depth[i] = volume.depth[i];
-  }
-  return true;
 }
 
 }  // namespace
@@ -167,26 +126,14 @@ static int render_main(int argc, char **argv)
     char tmp[4096];
     if (sl_temp_name(f.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
   }
-  long width, height, slices, light_res, threads, time_index;
-  double sun_az = 0, sun_el = 0, fov, exposure, view_az, view_el, dz;
-  std::vector<double> sky;
+  long width, height, threads, time_index;
+  double fov, exposure, view_az, view_el;
   if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
-      !o.integer("slices", &slices, 0, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
       !o.integer("threads", &threads, 0, 1024) || !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) ||
-      !o.number("fov", &fov) ||
-      !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
-      !o.number("view-elevation", &view_el) || !o.number("dz", &dz) || !o.list("sky", &sky))
+      !o.number("fov", &fov) || !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
+      !o.number("view-elevation", &view_el))
     return sl::fail(cmd, o.error(), 2);
-  if (sky.size() != 3) return sl::fail(cmd, "--sky needs three numbers R,G,B", 2);
   if (!(fov > 0 && fov < 170)) return sl::fail(cmd, "--fov must be in (0, 170) degrees", 2);
-  if (o.has("sun-azimuth") != o.has("sun-elevation"))
-    return sl::fail(cmd, "give both --sun-azimuth and --sun-elevation, or neither", 2);
-  if (o.has("sun-azimuth") && o.has("date")) return sl::fail(cmd, "give --date or the sun's angles, not both", 2);
-  if (o.has("sun-azimuth")) {
-    if (!o.number("sun-azimuth", &sun_az) || !o.number("sun-elevation", &sun_el)) return sl::fail(cmd, o.error(), 2);
-    if (sun_el < -90 || sun_el > 90) return sl::fail(cmd, "--sun-elevation must be in [-90, 90] degrees", 2);
-  }
-  if (o.str("earth") != "flat" && o.str("earth") != "round") return sl::fail(cmd, "--earth must be flat or round", 2);
   // Overlay lines are rasterized by VTK, depth-tested against the terrain mesh; the CPU composite
   // has no line rasterizer, so it would silently drop them.
   if (o.has("cpu-composite"))
@@ -196,124 +143,28 @@ static int render_main(int argc, char **argv)
                         std::string("--cpu-composite draws no overlay lines (--") + layer +
                             "): VTK draws them; composite through VTK (xvfb-run -a) or leave the overlays off",
                         2);
-  sl_lighting lighting;
-  if (o.str("lighting") == "multiple") lighting = SL_LIGHTING_MULTIPLE;
-  else if (o.str("lighting") == "eq25") lighting = SL_LIGHTING_MULTIPLE_EQ25;
-  else if (o.str("lighting") == "low-albedo") lighting = SL_LIGHTING_LOW_ALBEDO;
-  else return sl::fail(cmd, "--lighting must be multiple, eq25 or low-albedo", 2);
-  const bool spectral = o.str("wavelengths") == "spectral";
-  if (!spectral && o.str("wavelengths") != "rgb") return sl::fail(cmd, "--wavelengths must be rgb or spectral", 2);
-  double xi;
-  if (!o.number("xi", &xi) || xi < 0) return sl::fail(cmd, "--xi must be a number >= 0", 2);
-  if (spectral && o.has("no-atmosphere")) return sl::fail(cmd, "--wavelengths spectral needs the atmosphere", 2);
   double fog_km, fog_sky_km;
   if (!o.number("fog-visibility-km", &fog_km) || fog_km < 0 || !o.number("fog-depth-km", &fog_sky_km) || fog_sky_km <= 0)
     return sl::fail(cmd, "--fog-visibility-km must be >= 0 and --fog-depth-km > 0", 2);
   const bool haze = o.str("fog-type") == "haze";
   if (!haze && o.str("fog-type") != "fog") return sl::fail(cmd, "--fog-type must be fog or haze", 2);
-  sl_utc date{};
-  if (o.has("date")) {
-    std::string why;
-    if (!sl_parse_iso8601_utc(o.str("date"), &date, &why)) return sl::fail(cmd, "--date: " + why, 2);
-  }
   if (threads > 0) omp_set_num_threads((int)threads);
   const bool json = o.has("json");
   const bool quiet = o.has("quiet") || json;
 
-  double t0 = sl::now_seconds();
-  sl::LoadOptions load;
-  std::string load_error;
-  if (!sl::parse_load_options(o, &load, &load_error)) return sl::fail(cmd, load_error, 2);
-  load.load.time_index = (int)time_index, load.load.dz = dz;
-  if (o.str("curvature") != "flat" && o.str("curvature") != "drop") return sl::fail(cmd, "--curvature must be flat or drop", 2);
-  load.load.earth_curvature = o.str("curvature") == "drop";
-  if (o.has("origin")) {
-    std::vector<double> origin;
-    if (!o.list("origin", &origin) || origin.size() != 2 || !(std::fabs(origin[0]) <= 90.0))
-      return sl::fail(cmd, "--origin needs LAT,LON in degrees", 2);
-    load.load.has_origin = 1, load.load.origin_lat = origin[0], load.load.origin_lon = origin[1];
-  }
-  sl_storm_frame frame;
-  if (sl_storm_load(path.c_str(), &load.load, &frame, &err)) return sl::fail(cmd, err.message);
-  const double t_load = sl::now_seconds() - t0;
-
-  // The sun: given angles, or the solar position for --date or the file's own time.
-  std::string sun_note;
-  if (!o.has("sun-azimuth")) {
+  // The storm, the sun, the air, the tables and the renderer (app/render_session.h).
+  sl::RenderSession session;
+  {
     std::string why;
-    bool no_times = false;
-    if (!sl::frame_solar_position(path, time_index, frame, o.has("date") ? &date : nullptr, &sun_el, &sun_az, &date,
-                                  &no_times, &why)) {
-      sl_storm_frame_free(&frame);
-      return sl::fail(cmd, why, no_times ? 2 : 1);
-    }
-    char note[160];
-    std::snprintf(note, sizeof note, "sun at %04d-%02d-%02d %02d:%02d UTC over %.2f N %.2f E: elevation %.2f, azimuth %.2f",
-                  date.year, date.month, date.day, date.hour, date.minute, frame.center_lat, frame.center_lon, sun_el,
-                  sun_az);
-    sun_note = note;
+    int exit_code = 1;
+    if (!session.prepare(o, path, quiet, &why, &exit_code)) return sl::fail(cmd, why, exit_code);
   }
-  sl_atmosphere atmosphere;
-  const bool with_air = !o.has("no-atmosphere");
-  double spectral_nm[SL_SKY_SPECTRAL_COUNT];
-  sl_sky_spectral_wavelengths(spectral_nm);
-  if (with_air && sl_atmosphere_init(&atmosphere, spectral ? spectral_nm : sl_sky_rgb_wavelengths_nm,
-                                     spectral ? SL_SKY_SPECTRAL_COUNT : SL_SKY_RGB_COUNT,
-                                     o.str("earth") == "flat" ? SL_EARTH_FLAT : SL_EARTH_ROUND,
-                                     SL_RAYLEIGH_BODHAINE1999, &err)) {
-    sl_storm_frame_free(&frame);
-    return sl::fail(cmd, err.message);
-  }
-  // The round earth the storm was placed on is also the ground the eye rays meet (the horizon).
-  if (with_air && load.load.earth_curvature) atmosphere.ground_radius = SL_WRF_EARTH_RADIUS;
-
-  // Particle tables only for the fields this storm has, at the scene's wavelengths (cached).
-  std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)> optics(nullptr, sl_optics_free);
-  if (lighting != SL_LIGHTING_LOW_ALBEDO) {
-    sl_optics_request req;
-    sl_optics_request_defaults(&req);
-    req.particles = 0;
-    for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-      if (frame.volume.eta[p]) req.particles |= 1u << p;
-    if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) {
-      sl_storm_frame_free(&frame);
-      return sl::fail(cmd, err.message);
-    }
-    sl::Progress table_progress("tables", !quiet);
-    req.progress = progress_hook;
-    req.progress_user = &table_progress;
-    optics.reset(sl_optics_build(&req, &err));
-    table_progress.done();
-    if (!optics) {
-      sl_storm_frame_free(&frame);
-      return sl::fail(cmd, std::string("particle tables: ") + err.message);
-    }
-  }
-
-  sl_scene scene{};
-  scene.volume = &frame.volume;
-  scene.atmosphere = with_air ? &atmosphere : nullptr;
-  scene.optics = optics.get();
-  scene.lighting = lighting;
-  scene.xi = xi;
-  scene.light_volume = o.has("light-volume") ? 1 : 0;
-  // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
-  sl_sun_direction(sun_el, sl_georef_grid_azimuth(&frame.georef, sun_az), scene.sun_direction);
-  for (int c = 0; c < SL_CHANNELS; ++c) {
-    scene.sun_irradiance[c] = 1.0;
-    scene.sky_radiance[c] = sky[c];
-  }
-  scene.termination_transparency = 1e-6;
-  scene.slices = (int)slices;
-  scene.light_resolution = (int)light_res;
-  sl::Progress progress("rendering", !quiet);
-  scene.progress = progress_hook;
-  scene.progress_user = &progress;
-  sl_renderer *r = sl_renderer_create(&scene, &err);
-  if (!r) {
-    sl_storm_frame_free(&frame);
-    return sl::fail(cmd, path + ": " + err.message);
-  }
+  const double t_load = session.load_seconds;
+  const std::string &sun_note = session.sun_note;
+  const sl_storm_frame &frame = session.frame;
+  const sl_scene &scene = session.scene;
+  sl_renderer *r = session.renderer;
+  double t0 = 0;
   sl_camera cam{};
   double lo_box[3], hi_box[3];
   sl_renderer_content_bounds(r, lo_box, hi_box);
@@ -328,11 +179,8 @@ static int render_main(int argc, char **argv)
     if (!sl::read_map_options(o, &map_layers, &why)) return sl::fail(cmd, why, 2);
     if (map_layers.any()) {
       terrain.reset(new sl::TerrainScene);
-      if (!terrain->build(frame, map_layers, scene, &why) || !terrain->prepare_view(cam, &why)) {
-        sl_renderer_destroy(r);
-        sl_storm_frame_free(&frame);
+      if (!terrain->build(frame, map_layers, scene, &why) || !terrain->prepare_view(cam, &why))
         return sl::fail(cmd, path + ": " + why);
-      }
       cam.opaque_distance = terrain->opaque_distance();
     }
   }
@@ -340,19 +188,16 @@ static int render_main(int argc, char **argv)
   // (only with --curvature drop: the flat ground never cuts the volume). Also the frame's Z.
   std::vector<float> opaque((size_t)cam.width * cam.height, INFINITY);
   if (cam.opaque_distance) std::copy(cam.opaque_distance, cam.opaque_distance + opaque.size(), opaque.begin());
-  if (with_air && atmosphere.ground_radius > 0) {
-    sl_camera_ground_distance(&cam, &atmosphere, opaque.data());
+  if (scene.atmosphere && scene.atmosphere->ground_radius > 0) {
+    sl_camera_ground_distance(&cam, scene.atmosphere, opaque.data());
     cam.opaque_distance = opaque.data();
   }
   // Night: the stated night-sky luminance and the town's lamps (their eye rays stop at them).
   sl::NightScene night;
   {
     std::string why;
-    if (!sl::read_night_scene(o, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why)) {
-      sl_renderer_destroy(r);
-      sl_storm_frame_free(&frame);
+    if (!sl::read_night_scene(o, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why))
       return sl::fail(cmd, why, 2);
-    }
   }
 
   sl_image volume{}, background{}, frame_img{};
@@ -366,27 +211,19 @@ static int render_main(int argc, char **argv)
     goto done;
   }
   t0 = sl::now_seconds();
-  if (o.has("gpu")) {
-    std::string why, display_error;
-    sl::GpuTimings gt;
-    if (!sl::have_display(&display_error)) why = display_error;
-    else if (sl::gpu_render_volume(r, cam, &volume, &why, &gt)) {
-      stats.light_seconds = gt.light_seconds, stats.eye_seconds = gt.eye_seconds;
-      gpu_done = true;
+  {
+    std::string why, gpu_note;
+    if (!session.draw(cam, o.has("gpu"), &volume, &background, &stats, &gpu_done, &gpu_note, &why)) {
+      rc = sl::fail(cmd, why);
+      goto done;
     }
-    if (!gpu_done) std::fprintf(stderr, "render: --gpu: %s; rendering on the CPU\n", why.c_str());
-  }
-  if ((!gpu_done && sl_renderer_render(r, &cam, &volume, &stats, &err)) ||
-      sl_renderer_background(r, &cam, &background, &err)) {
-    rc = sl::fail(cmd, err.message);
-    goto done;
+    if (o.has("gpu") && !gpu_done) std::fprintf(stderr, "render: --gpu: %s; rendering on the CPU\n", gpu_note.c_str());
   }
   if ((night.night_sky[0] > 0.0 || night.night_sky[1] > 0.0 || night.night_sky[2] > 0.0) &&
       sl_night_sky_fill(&cam, night.night_sky, &background, &err)) {
     rc = sl::fail(cmd, err.message);
     goto done;
   }
-  progress.done();
   t_render = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
   if (o.has("cpu-composite")) {
@@ -398,7 +235,7 @@ static int render_main(int argc, char **argv)
       rc = sl::fail(cmd, display_error + " or pass --cpu-composite");
       goto done;
     }
-    if (!composite_with_vtk(cam, background, volume, &frame_img, terrain.get())) {
+    if (!session.composite(cam, background, volume, &frame_img, terrain.get())) {
       rc = sl::fail(cmd, "the VTK render window could not composite the frame (OpenGL float targets unavailable?)");
       goto done;
     }
@@ -458,7 +295,7 @@ static int render_main(int argc, char **argv)
     {
       std::string why;
       const sl_apsf_medium *const channel_media[3] = {&media[0], &media[1], &media[2]};
-      if (!sl::fog_airlight(with_air ? &atmosphere : nullptr, scene.sun_direction, cam, night.night_sky,
+      if (!sl::fog_airlight(scene.atmosphere, scene.sun_direction, cam, night.night_sky,
                             channel_media, &airlight_map, &why)) {
         rc = sl::fail(cmd, why);
         goto done;
@@ -476,28 +313,20 @@ static int render_main(int argc, char **argv)
 #endif
   t_composite = sl::now_seconds() - t0;
   t0 = sl::now_seconds();
-  for (const std::string &f : outs) {
-    sl_exr_metadata meta{};
-    double distance = 0.0;
-    for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
-    sl_exr_camera_matrices(cam.position, cam.target, cam.up, cam.fov_deg, (double)cam.width / cam.height,
-                           std::max(1.0, 1e-3 * std::sqrt(distance)), 1e3 * std::sqrt(distance), &meta);
-    meta.has_sun = 1;
-    for (int a = 0; a < 3; ++a) meta.sun_direction[a] = (float)scene.sun_direction[a];
+  {
     std::string scene_text;
     if (o.has("scene-text")) {
       std::ifstream in(o.str("scene-text"));
       std::stringstream ss;
       ss << in.rdbuf();
       scene_text = ss.str();
-      meta.scene = scene_text.c_str();
     }
-    const int w = ends_with(f, ".exr")
-                      ? sl_write_exr_meta(f.c_str(), &frame_img, o.has("float") ? SL_EXR_FLOAT : SL_EXR_HALF, &meta, &err)
-                      : sl_write_png(f.c_str(), &frame_img, (float)exposure, &err);
-    if (w) {
-      rc = sl::fail(cmd, err.message);
-      goto done;
+    for (const std::string &f : outs) {
+      std::string why;
+      if (!sl::write_frame(f, cam, frame_img, scene.sun_direction, scene_text, o.has("float"), (float)exposure, &why)) {
+        rc = sl::fail(cmd, why);
+        goto done;
+      }
     }
   }
   t_write = sl::now_seconds() - t0;
@@ -515,15 +344,8 @@ static int render_main(int argc, char **argv)
                 path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,
                 stats.light_height, t_load, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
   if (json) {
-    double fwd[3], len = 0.0;
-    for (int a = 0; a < 3; ++a) fwd[a] = cam.target[a] - cam.position[a], len += fwd[a] * fwd[a];
-    for (int a = 0; a < 3; ++a) fwd[a] /= std::sqrt(len);
-    double right[3] = {fwd[1] * cam.up[2] - fwd[2] * cam.up[1], fwd[2] * cam.up[0] - fwd[0] * cam.up[2],
-                       fwd[0] * cam.up[1] - fwd[1] * cam.up[0]};
-    const double rn = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
-    for (double &v : right) v /= rn;
-    const double up[3] = {right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
-                          right[0] * fwd[1] - right[1] * fwd[0]};
+    double fwd[3], right[3], up[3];
+    sl::camera_basis(cam, fwd, right, up);
     cJSON *root = cJSON_CreateObject();
     cJSON *c = cJSON_AddObjectToObject(root, "camera");
     cJSON_AddItemToObject(c, "position", cJSON_CreateDoubleArray(cam.position, 3));
@@ -545,7 +367,5 @@ done:
   sl_image_free(&volume);
   sl_image_free(&background);
   sl_image_free(&frame_img);
-  sl_renderer_destroy(r);
-  sl_storm_frame_free(&frame);
   return rc;
 }

@@ -1,15 +1,16 @@
-// stormlight view: an interactive window on a storm. Each view is drawn by the batch renderer's
-// own code (render --gpu, falling back to the CPU) and shown as an image; mouse and keys change
-// the camera, the sun, xi and the exposure; 'p' saves the view as a scene file and an EXR
-// that `stormlight render --scene` reproduces exactly. --script plays key and mouse events
-// through the same interactor (tests, demos).
+// stormlight view: an interactive window on a storm. The viewer keeps render's session (the
+// storm, air, tables, renderer and GPU pass: render_session.h) and draws each view with the batch
+// renderer's own code (the GPU pass, falling back to the CPU), so a camera change costs an eye
+// pass, a sun change the light volume, the exposure a tone map. Mouse and keys change the camera,
+// the sun, xi and the exposure; 'p' saves the view as a scene file and an EXR that
+// `stormlight render --scene` reproduces exactly. --script plays key and mouse events through
+// the same interactor (tests, demos) and prints what each one cost.
 #include <vtkCallbackCommand.h>
 #include <vtkImageActor.h>
 #include <vtkImageMapper3D.h>
 #include <vtkImageData.h>
 #include <vtkInteractorStyleUser.h>
 #include <vtkNew.h>
-#include <vtkPNGReader.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
@@ -29,6 +30,9 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "render_session.h"
+#include "sl_image_io.h"
+#include "x_display.h"
 #include "scene.h"
 #include "sl_sky.h"
 #include "sl_storm.h"
@@ -165,44 +169,147 @@ bool write_scene(const ViewState &s, const std::string &path, std::string *why)
   return true;
 }
 
+// What a change invalidates, from the most to the least: a new time step reloads the storm (a
+// new session); the sun relights the volume; xi and the camera redraw the eye pass (and the sky
+// for the view); the exposure only tone-maps the kept HDR frame again.
+enum class Change { Time, Sun, Xi, Camera, Exposure };
+
+const char *change_name(Change c)
+{
+  switch (c) {
+    case Change::Time: return "time step (reload)";
+    case Change::Sun: return "sun (light volume + eye pass)";
+    case Change::Xi: return "xi (eye pass)";
+    case Change::Camera: return "camera (eye pass)";
+    case Change::Exposure: return "exposure (tone map)";
+  }
+  return "";
+}
+
 class Viewer {
  public:
   ViewState state;
-  std::string workdir;
   vtkNew<vtkRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkImageActor> actor;
+  vtkNew<vtkImageData> shown;
   vtkNew<vtkRenderWindowInteractor> interactor;
   vtkNew<vtkInteractorStyleUser> style;
-  bool dragging = false;
+  bool dragging = false, panning = false;
   int last[2] = {0, 0};
   int failures = 0;
+  // The prepared storm, air, tables, renderer and GPU pass for state.time (render_session.h).
+  std::unique_ptr<sl::RenderSession> session;
+  long session_time = -1;
+  sl_camera camera{};
+  sl_image hdr{}, volume{}, background{};
+  std::string cpu_note;  // why the GPU pass could not draw the last frame (said once)
+  double last_seconds = 0;
+  char parts[160] = "";  // where the last redraw's time went
+  Change last_change = Change::Time;
 
-  std::string frame_exr() const { return workdir + "/frame.exr"; }
-
-  // Draws the state with the batch renderer and shows it.
-  bool Redraw()
+  ~Viewer()
   {
+    session.reset();
+    for (sl_image *img : {&hdr, &volume, &background}) sl_image_free(img);
+  }
+
+  // The camera render places for the state (render_main's framing, or the explicit camera).
+  void PlaceCamera()
+  {
+    double lo[3], hi[3];
+    sl_renderer_content_bounds(session->renderer, lo, hi);
+    sl_camera_frame(lo, hi, state.view_az, state.view_el, state.fov, (int)state.width, (int)state.height, &camera);
+    if (state.explicit_camera)
+      for (int a = 0; a < 3; ++a) camera.position[a] = state.position[a], camera.target[a] = state.target[a];
+  }
+
+  bool Prepare(std::string *why)
+  {
+    session.reset();
     std::vector<std::string> args = render_arguments(state);
-    for (const std::string &x : {std::string("--gpu"), std::string("--quiet"), std::string("--out"),
-                                 frame_exr() + "," + workdir + "/frame.png"})
-      args.push_back(x);
     std::vector<char *> argv;
-    for (std::string &a : args) argv.push_back(&a[0]);
-    if (sl_cmd_render((int)argv.size(), argv.data()) != 0) {
+    for (std::string &x : args) argv.push_back(&x[0]);
+    sl::Options o("render", "", "");
+    sl::declare_render_options(o);
+    if (!o.parse((int)argv.size(), argv.data())) {
+      *why = o.error();
+      return false;
+    }
+    std::unique_ptr<sl::RenderSession> s(new sl::RenderSession);
+    int exit_code = 1;
+    if (!s->prepare(o, state.data, true, why, &exit_code)) return false;
+    session = std::move(s);
+    session_time = state.time;
+    return true;
+  }
+
+  // Redraws what `change` invalidates and shows the frame; times it.
+  bool Redraw(Change change)
+  {
+    const double t0 = sl::now_seconds();
+    std::string why;
+    sl_error err{};
+    bool ok = true;
+    if (!session || state.time != session_time) change = Change::Time;
+    parts[0] = 0;
+    if (change == Change::Time) ok = Prepare(&why);
+    else if (change == Change::Sun) ok = session->set_sun(state.sun_el, state.sun_az, &why);
+    else if (change == Change::Xi) session->set_xi(state.xi);
+    if (ok && change != Change::Exposure) {
+      PlaceCamera();
+      if (hdr.width != camera.width || hdr.height != camera.height) {
+        for (sl_image *img : {&hdr, &volume, &background}) {
+          sl_image_free(img);
+          if (ok && sl_image_alloc(img, camera.width, camera.height, &err)) ok = false, why = err.message;
+        }
+      }
+      bool gpu_done = false;
+      std::string gpu_note;
+      sl_render_stats stats{};
+      const double t1 = sl::now_seconds();
+      ok = ok && session->draw(camera, true, &volume, &background, &stats, &gpu_done, &gpu_note, &why);
+      const double t2 = sl::now_seconds();
+      ok = ok && session->composite(camera, background, volume, &hdr, nullptr);
+      std::snprintf(parts, sizeof parts, "(light %.3f, eye %.3f, sky+resolve %.3f, composite %.3f s)",
+                    stats.light_seconds, stats.eye_seconds, t2 - t1 - stats.light_seconds - stats.eye_seconds,
+                    sl::now_seconds() - t2);
+      if (ok && !gpu_done && gpu_note != cpu_note)
+        std::fprintf(stderr, "view: the GPU pass cannot draw this (%s); drawing on the CPU\n", gpu_note.c_str());
+      if (ok) cpu_note = gpu_done ? "" : gpu_note;
+    }
+    if (!ok) {
+      std::fprintf(stderr, "view: %s\n", why.empty() ? "the frame could not be drawn" : why.c_str());
       ++failures;
       return false;
     }
-    vtkNew<vtkPNGReader> png;
-    png->SetFileName((workdir + "/frame.png").c_str());
-    png->Update();
-    actor->GetMapper()->SetInputData(png->GetOutput());
+    Show();
+    last_seconds = sl::now_seconds() - t0;
+    last_change = change;
+    return true;
+  }
+
+  // The kept HDR frame tone-mapped at the state's exposure (render's PNG curve) into the window.
+  void Show()
+  {
+    const int w = hdr.width, h = hdr.height;
+    shown->SetDimensions(w, h, 1);
+    shown->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+    auto *px = static_cast<unsigned char *>(shown->GetScalarPointer());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          // rows from the top in the frame, from the bottom in VTK's image
+          const float v = sl_tonemap(hdr.rgba[4 * ((size_t)(h - 1 - y) * w + x) + c], (float)state.exposure);
+          px[3 * ((size_t)y * w + x) + c] = (unsigned char)std::lrint(255.0f * std::min(1.0f, std::max(0.0f, v)));
+        }
+    shown->Modified();
+    actor->GetMapper()->SetInputData(shown);
     renderer->ResetCamera();
     renderer->GetActiveCamera()->ParallelProjectionOn();
     renderer->ResetCamera();
-    renderer->GetActiveCamera()->SetParallelScale(0.5 * state.height);
+    renderer->GetActiveCamera()->SetParallelScale(0.5 * h);
     window->Render();
-    return true;
   }
 
   // Orbit: the camera turns around its target (or the cloud) by the drag, 0.25 degree a pixel.
@@ -225,20 +332,36 @@ class Viewer {
     state.position[2] = state.target[2] + r * std::sin(e);
   }
 
+  // Pan: camera and target move together in the image plane so that the point under the cursor
+  // at the target's distance follows a drag of (dx, dy) pixels (x right, y up). The camera
+  // becomes explicit (the framing from view-azimuth/elevation is always centred).
+  void Pan(double dx, double dy)
+  {
+    if (!session) return;
+    PlaceCamera();
+    double fwd[3], right[3], up[3], len = 0;
+    sl::camera_basis(camera, fwd, right, up);
+    for (int a = 0; a < 3; ++a) len += (camera.target[a] - camera.position[a]) * (camera.target[a] - camera.position[a]);
+    len = std::sqrt(len);
+    const double metres_per_pixel = 2.0 * len * std::tan(0.5 * camera.fov_deg * M_PI / 180.0) / camera.height;
+    for (int a = 0; a < 3; ++a) {
+      const double shift = -metres_per_pixel * (dx * right[a] + dy * up[a]);
+      state.position[a] = camera.position[a] + shift;
+      state.target[a] = camera.target[a] + shift;
+    }
+    state.explicit_camera = true;
+  }
+
   bool Save(const std::string &prefix)
   {
     std::string why;
-    if (!write_scene(state, prefix + ".json", &why)) {
+    // The EXR carries the saved scene's text in its header, as render --scene writes it.
+    const bool saved = write_scene(state, prefix + ".json", &why);
+    std::stringstream text;
+    if (saved) text << std::ifstream(prefix + ".json").rdbuf();
+    if (!saved || !sl::write_frame(prefix + ".exr", camera, hdr, session->scene.sun_direction, text.str(), Floats(),
+                                   (float)state.exposure, &why)) {
       std::fprintf(stderr, "view: %s\n", why.c_str());
-      ++failures;
-      return false;
-    }
-    std::ifstream in(frame_exr(), std::ios::binary);
-    std::ofstream out(prefix + ".exr.tmp", std::ios::binary);
-    out << in.rdbuf();
-    out.close();
-    if (!in || !out || std::rename((prefix + ".exr.tmp").c_str(), (prefix + ".exr").c_str()) != 0) {
-      std::fprintf(stderr, "view: %s.exr: cannot write the frame\n", prefix.c_str());
       ++failures;
       return false;
     }
@@ -246,34 +369,48 @@ class Viewer {
     return true;
   }
 
+  bool Floats() const
+  {
+    for (const std::string &f : state.flags)
+      if (f == "float") return true;
+    return false;
+  }
+
   std::string save_prefix = "view";
 
   void Key(const std::string &k)
   {
+    Change change = Change::Camera;
     bool redraw = true;
     if (k == "Left") Orbit(-20, 0);
     else if (k == "Right") Orbit(20, 0);
     else if (k == "Up") Orbit(0, -20);
     else if (k == "Down") Orbit(0, 20);
-    else if (k == "a") state.sun_az = std::fmod(state.sun_az - 5.0 + 360.0, 360.0);
-    else if (k == "d") state.sun_az = std::fmod(state.sun_az + 5.0, 360.0);
-    else if (k == "w") state.sun_el = std::min(90.0, state.sun_el + 2.0);
-    else if (k == "s") state.sun_el = std::max(-10.0, state.sun_el - 2.0);
-    else if (k == "x") state.xi = std::max(0.0, state.xi - 0.01);
-    else if (k == "X") state.xi += 0.01;
-    else if (k == "plus" || k == "equal") state.exposure *= 1.25;
-    else if (k == "minus") state.exposure /= 1.25;
+    else if (k == "j") Pan(-20, 0);
+    else if (k == "l") Pan(20, 0);
+    else if (k == "i") Pan(0, 20);
+    else if (k == "k") Pan(0, -20);
+    else if (k == "a") state.sun_az = std::fmod(state.sun_az - 5.0 + 360.0, 360.0), change = Change::Sun;
+    else if (k == "d") state.sun_az = std::fmod(state.sun_az + 5.0, 360.0), change = Change::Sun;
+    else if (k == "w") state.sun_el = std::min(90.0, state.sun_el + 2.0), change = Change::Sun;
+    else if (k == "s") state.sun_el = std::max(-10.0, state.sun_el - 2.0), change = Change::Sun;
+    else if (k == "x") state.xi = std::max(0.0, state.xi - 0.01), change = Change::Xi;
+    else if (k == "X") state.xi += 0.01, change = Change::Xi;
+    else if (k == "plus" || k == "equal") state.exposure *= 1.25, change = Change::Exposure;
+    else if (k == "minus") state.exposure /= 1.25, change = Change::Exposure;
     else if (k == "z") state.fov = std::max(2.0, state.fov / 1.1);
     else if (k == "Z") state.fov = std::min(120.0, state.fov * 1.1);
     else if ((k == "h" || k == "H" || k == "n" || k == "N") && state.have_date) {
       add_hours(&state.date, (k == "h" ? -1 : k == "H" ? 1 : k == "n" ? -24 : 24));
       std::string why;
+      change = Change::Sun;
       if (!place_sun(state, &why)) std::fprintf(stderr, "view: %s\n", why.c_str()), redraw = false;
       else
         std::printf("view: %04d-%02d-%02d %02d:%02d UTC, sun elevation %.2f, azimuth %.2f\n", state.date.year,
                     state.date.month, state.date.day, state.date.hour, state.date.minute, state.sun_el, state.sun_az);
     } else if (k == "t" || k == "T") {
       state.time = k == "t" ? std::max(0L, state.time - 1) : std::min((long)state.ntimes - 1, state.time + 1);
+      change = Change::Time;
       // The date follows the series: the sun of the new step's own time.
       std::string why;
       if (state.time < (long)state.times.size() && sl_parse_iso8601_utc(state.times[state.time], &state.date, &why) &&
@@ -284,7 +421,7 @@ class Viewer {
       Save(save_prefix);
       redraw = false;
     } else redraw = false;
-    if (redraw) Redraw();
+    if (redraw) Redraw(change);
   }
 };
 
@@ -304,7 +441,17 @@ void on_event(vtkObject *caller, unsigned long event, void *client, void *)
       if (v->dragging) {
         v->Orbit(p[0] - v->last[0], v->last[1] - p[1]);
         v->dragging = false;
-        v->Redraw();
+        v->Redraw(Change::Camera);
+      }
+      break;
+    case vtkCommand::MiddleButtonPressEvent:
+      v->panning = true, v->last[0] = p[0], v->last[1] = p[1];
+      break;
+    case vtkCommand::MiddleButtonReleaseEvent:
+      if (v->panning) {
+        v->Pan(p[0] - v->last[0], p[1] - v->last[1]);
+        v->panning = false;
+        v->Redraw(Change::Camera);
       }
       break;
     case vtkCommand::MouseWheelForwardEvent:
@@ -341,15 +488,17 @@ bool play(Viewer &v, const std::string &path)
       iren->SetKeySym(sym.c_str());
       iren->SetKeyCode(sym.size() == 1 ? sym[0] : 0);
       iren->InvokeEvent(vtkCommand::KeyPressEvent);
-    } else if (cmd == "drag") {
+    } else if (cmd == "drag" || cmd == "pan") {
+      // DX right, DY down on the screen (a mouse's motion); VTK's event positions count y up.
       int dx = 0, dy = 0;
       ss >> dx >> dy;
       const int x0 = (int)v.state.width / 2, y0 = (int)v.state.height / 2;
+      const bool pan = cmd == "pan";
       iren->SetEventPosition(x0, y0);
-      iren->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+      iren->InvokeEvent(pan ? vtkCommand::MiddleButtonPressEvent : vtkCommand::LeftButtonPressEvent);
       iren->SetEventPosition(x0 + dx, y0 - dy);
       iren->InvokeEvent(vtkCommand::MouseMoveEvent);
-      iren->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+      iren->InvokeEvent(pan ? vtkCommand::MiddleButtonReleaseEvent : vtkCommand::LeftButtonReleaseEvent);
     } else if (cmd == "wheel") {
       int n = 0;
       ss >> n;
@@ -360,11 +509,14 @@ bool play(Viewer &v, const std::string &path)
       ss >> prefix;
       if (!v.Save(prefix)) return false;
     } else {
-      std::fprintf(stderr, "view: %s:%d: unknown command '%s' (key, drag, wheel, save)\n", path.c_str(), number,
+      std::fprintf(stderr, "view: %s:%d: unknown command '%s' (key, drag, pan, wheel, save)\n", path.c_str(), number,
                    cmd.c_str());
       return false;
     }
     if (v.failures) return false;
+    if (cmd != "save" && v.last_seconds > 0)
+      std::printf("view: %-12s %-32s %.3f s %s\n", line.c_str(), change_name(v.last_change), v.last_seconds, v.parts);
+    v.last_seconds = 0;
   }
   return true;
 }
@@ -390,13 +542,14 @@ int sl_cmd_view(int argc, char **argv)
   for (std::string &s : args) cargv.push_back(&s[0]);
   sl::Options o("view", "FILE | --scene S [options]",
                 "An interactive window on a storm, drawn with the GPU pass (render --gpu; the CPU when the OpenGL\n"
-                "context cannot). Mouse: left drag orbits, the wheel zooms. Keys: arrows orbit; a/d sun azimuth\n"
-                "-/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
+                "context cannot). Mouse: left drag orbits, middle drag pans, the wheel zooms. Keys: arrows orbit;\n"
+                "i/j/k/l pan; a/d sun azimuth -/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
                 "t/T the series' time step -/+ 1; x/X xi -/+ 0.01; -/+ exposure; z/Z zoom; p saves the view\n"
                 "as PREFIX.json (a scene for render --scene) and PREFIX.exr. --script plays events and exits.");
   sl::declare_render_options(o);
   o.option("scene", "FILE.json", "start from a scene file");
-  o.option("script", "FILE", "play 'key SYM', 'drag DX DY', 'wheel N', 'save PREFIX' lines, then exit");
+  o.option("script", "FILE", "play 'key SYM', 'drag DX DY', 'pan DX DY', 'wheel N', 'save PREFIX' lines, then exit,\n"
+                       "printing what each cost");
   o.option("save", "PREFIX", "where 'p' saves the view", "view");
   const int early = sl::parse_or_exit(o, (int)cargv.size(), cargv.data());
   if (early >= 0) return early;
@@ -450,10 +603,8 @@ int sl_cmd_view(int argc, char **argv)
     if (!o.vec3("camera-position", s.position) || !o.vec3("camera-target", s.target)) return sl::fail("view", o.error(), 2);
     s.explicit_camera = true;
   }
-  char dir[] = "/tmp/stormlight-view-XXXXXX";
-  if (!mkdtemp(dir)) return sl::fail("view", "cannot make a working folder in /tmp");
-  v.workdir = dir;
   v.save_prefix = o.str("save");
+  sl::attach_x_display(v.window);  // the process's one X connection (x_display.h)
   v.window->SetSize((int)s.width, (int)s.height);
   v.window->SetWindowName("stormlight view");
   v.window->AddRenderer(v.renderer);
@@ -464,19 +615,22 @@ int sl_cmd_view(int argc, char **argv)
   callback->SetCallback(on_event);
   callback->SetClientData(&v);
   for (unsigned long e : {vtkCommand::KeyPressEvent, vtkCommand::LeftButtonPressEvent, vtkCommand::LeftButtonReleaseEvent,
+                          vtkCommand::MiddleButtonPressEvent, vtkCommand::MiddleButtonReleaseEvent,
                           vtkCommand::MouseWheelForwardEvent, vtkCommand::MouseWheelBackwardEvent})
     v.interactor->AddObserver(e, callback);
   int rc = 0;
   if (o.has("script")) {
     v.window->SetOffScreenRendering(1);
     v.interactor->Initialize();
-    if (!v.Redraw() || !play(v, o.str("script"))) rc = 1;
+    if (!v.Redraw(Change::Time)) rc = 1;
+    else {
+      std::printf("view: %-12s %-32s %.3f s %s\n", "(open)", change_name(Change::Time), v.last_seconds, v.parts);
+      if (!play(v, o.str("script"))) rc = 1;
+    }
   } else {
     v.interactor->Initialize();
-    if (!v.Redraw()) rc = 1;
+    if (!v.Redraw(Change::Time)) rc = 1;
     else v.interactor->Start();
   }
-  for (const char *f : {"frame.exr", "frame.png"}) std::remove((v.workdir + "/" + f).c_str());
-  rmdir(v.workdir.c_str());
   return rc;
 }

@@ -6,6 +6,7 @@
 
 #include "gpu_volume_pass.h"
 #include "sl_renderer_gpu.h"
+#include "x_display.h"
 
 namespace sl {
 
@@ -15,39 +16,67 @@ vtkSmartPointer<vtkRenderWindow> offscreen_window(int w, int h)
   window->SetOffScreenRendering(1);
   window->SetSize(w, h);
   window->SetMultiSamples(0);
+  attach_x_display(window);
   return window;
 }
 
-bool gpu_render_volume(const sl_renderer *r, const sl_camera &cam, sl_image *volume, std::string *why,
-                       GpuTimings *timings)
+struct GpuVolumeDrawer::Parts {
+  vtkSmartPointer<vtkRenderWindow> window;
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<GpuVolumePass> pass;
+  const sl_renderer *source = nullptr;
+};
+
+GpuVolumeDrawer::GpuVolumeDrawer() : parts_(new Parts) {}
+
+GpuVolumeDrawer::~GpuVolumeDrawer()
+{
+  if (parts_->window) parts_->window->Finalize();  // releases the pass's GL resources in its context
+  delete parts_;
+}
+
+void GpuVolumeDrawer::resweep() { parts_->pass->Resweep(); }
+
+bool GpuVolumeDrawer::draw(const sl_renderer *r, const sl_camera &cam, sl_image *volume, std::string *why,
+                           GpuTimings *timings)
 {
   const std::string unsupported = GpuVolumePass::Unsupported(r);
   if (!unsupported.empty()) {
     *why = unsupported;
     return false;
   }
-  vtkSmartPointer<vtkRenderWindow> window = offscreen_window(cam.width, cam.height);
-  vtkNew<vtkRenderer> renderer;
-  window->AddRenderer(renderer);
-  vtkNew<GpuVolumePass> pass;
-  pass->SetRenderer(r);
-  pass->SetCamera(cam);
-  renderer->SetPass(pass);
-  window->Render();
-  if (!pass->Succeeded()) {
-    *why = pass->Error();
+  Parts &p = *parts_;
+  if (!p.window) {
+    p.window = offscreen_window(cam.width, cam.height);
+    p.window->AddRenderer(p.renderer);
+    p.renderer->SetPass(p.pass);
+  } else {
+    p.window->SetSize(cam.width, cam.height);
+  }
+  if (p.source != r) p.pass->SetRenderer(r), p.source = r;
+  p.pass->SetCamera(cam);
+  p.window->Render();
+  if (!p.pass->Succeeded()) {
+    *why = p.pass->Error();
     return false;
   }
   if (timings) {
-    timings->light_seconds = pass->LightSeconds();
-    timings->eye_seconds = pass->EyeSeconds();
+    timings->light_seconds = p.pass->LightSeconds();
+    timings->eye_seconds = p.pass->EyeSeconds();
   }
   sl_error err{};
-  if (sl_renderer_resolve_accumulator(r, &cam, pass->Accumulator().data(), 5, volume, &err)) {
+  if (sl_renderer_resolve_accumulator(r, &cam, p.pass->Accumulator().data(), 5, volume, &err)) {
     *why = err.message;
     return false;
   }
   return true;
+}
+
+bool gpu_render_volume(const sl_renderer *r, const sl_camera &cam, sl_image *volume, std::string *why,
+                       GpuTimings *timings)
+{
+  GpuVolumeDrawer drawer;
+  return drawer.draw(r, cam, volume, why, timings);
 }
 
 }  // namespace sl

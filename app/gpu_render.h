@@ -15,7 +15,27 @@ namespace sl {
 vtkSmartPointer<vtkRenderWindow> offscreen_window(int w, int h);
 
 struct GpuTimings {
-  double light_seconds = 0.0, eye_seconds = 0.0;
+  double light_seconds = 0.0, eye_seconds = 0.0;  // light: 0 when the frame reused the sweep
+};
+
+class GpuVolumePass;
+
+// The GPU pass in its own off-screen window, kept between frames: the fields and tables are
+// uploaded once, the light volume swept once per sun (resweep()), and each draw costs the eye
+// pass and the CPU's resolve. r must stay the same renderer for the drawer's life.
+class GpuVolumeDrawer {
+ public:
+  GpuVolumeDrawer();
+  ~GpuVolumeDrawer();
+  // Draws r's volume for cam into volume (allocated at the camera's size). False with a
+  // one-line reason when the OpenGL context or the model is not enough for the GPU path.
+  bool draw(const sl_renderer *r, const sl_camera &cam, sl_image *volume, std::string *why, GpuTimings *timings);
+  // The renderer's sun changed: the next draw sweeps the light volume again.
+  void resweep();
+
+ private:
+  struct Parts;
+  Parts *parts_;
 };
 
 // Draws r's volume for cam into volume (allocated at the camera's size) with the GPU pass and

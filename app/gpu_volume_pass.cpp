@@ -451,6 +451,7 @@ void GpuVolumePass::Render(const vtkRenderState *s)
   bool good = true;
   if (!uploaded_) good = Upload(win);
   auto t = std::chrono::steady_clock::now();
+  light_seconds_ = 0.0;
   if (good && !swept_) {
     good = Sweep(win);
     glFinish();

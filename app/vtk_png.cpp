@@ -10,15 +10,11 @@
 #include <cstdlib>
 
 #include "sl_tempfile.h"
+#include "x_display.h"
 
 namespace sl {
 
-bool have_display(std::string *error)
-{
-  if (std::getenv("DISPLAY")) return true;
-  *error = "no X display for VTK's window: run under 'xvfb-run -a'";
-  return false;
-}
+bool have_display(std::string *error) { return open_x_display(error); }
 
 bool write_png(vtkImageData *image, const std::string &path, std::string *error)
 {

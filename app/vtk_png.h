@@ -10,7 +10,8 @@ class vtkRenderWindow;
 namespace sl {
 
 // Debian's VTK is GLX-only: without an X display a render window crashes instead of failing.
-// Returns false with the one-line explanation when there is none.
+// Opens the process's X connection (x_display.h), which every later window shares; returns false
+// with the one-line explanation when there is none or the server refuses.
 bool have_display(std::string *error);
 
 bool write_png(vtkImageData *image, const std::string &path, std::string *error);

@@ -13,7 +13,8 @@ ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
 
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j"$jobs"
-xvfb-run -a ctest --test-dir build/release -LE slow --output-on-failure
+# -noreset: no server reset between tests, which refuses a connection arriving meanwhile (app/x_display.h)
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --test-dir build/release -LE slow --output-on-failure
 
 # libFuzzer (only where clang is installed): the storm reader and the scene parser, 30 s each.
 bash tests/fuzz/run.sh 30

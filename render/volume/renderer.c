@@ -239,6 +239,22 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r);
 }
 
+int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error *err)
+{
+  double sun[3] = {sun_direction[0], sun_direction[1], sun_direction[2]};
+  if (sl__normalize3(sun)) return sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
+  memcpy(r->scene.sun_direction, sun, sizeof sun);
+  /* The cached light volume was lit by the old sun; the next frame that needs it rebuilds it. */
+  free(r->light_volume);
+  r->light_volume = NULL;
+  return SL_OK;
+}
+
+void sl_renderer_set_xi(sl_renderer *r, double xi)
+{
+  r->scene.xi = xi;
+  r->model.xi = xi;
+}
 
 /* Distance from a point inside the box back toward the sun to the box's boundary. */
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])

@@ -97,6 +97,13 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, s
  * on first use when the scene asks for it. */
 int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 
+/* A prepared renderer under another sun (unit vector toward it, world ENU): what depends on the
+ * sun (the cached light volume) is dropped and rebuilt on next use; the extinction grids and the
+ * tables are kept. What a viewer's sun change costs. */
+int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error *err);
+/* Eq. 26's xi for the next frames; only the eye gather reads it (the light volume stays). */
+void sl_renderer_set_xi(sl_renderer *r, double xi);
+
 /* The background behind and around the volume for this camera, opaque: the whole ray's sky plus
  * the sun's disk (or the constant sky without an atmosphere). Its depth is the view-axis distance
  * to where the ray meets the atmosphere's ground (plane or sphere), +inf where it meets none. The volume layer

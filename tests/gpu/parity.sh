@@ -12,18 +12,10 @@ size=(--width 64 --height 48 --quiet)
 status=0
 for scene in fig5_rainbow fig6_halo fig4_glory fig11_dawn fig9_storm_sky; do
   s="$scenes/$scene.json"
-  # Under Xvfb the GPU path's window sometimes fails to connect ("bad X server connection",
-  # about one run in three, never seen with the CPU path's windows): retried once, and said.
-  # The cause is open (issue 10's note).
-  for attempt in 1 2; do
-    if "$sl" render --scene "$s" "${size[@]}" --gpu --out "$work/$scene.gpu.exr,$work/$scene.gpu.png" \
-      2> "$work/$scene.gpu.log"; then break; fi
-    if [ $attempt = 1 ] && grep -q "bad X server connection" "$work/$scene.gpu.log"; then
-      echo "note $scene: the X connection failed; retrying once"
-    else
-      cat "$work/$scene.gpu.log"; exit 1
-    fi
-  done
+  if ! "$sl" render --scene "$s" "${size[@]}" --gpu --out "$work/$scene.gpu.exr,$work/$scene.gpu.png" \
+    2> "$work/$scene.gpu.log"; then
+    cat "$work/$scene.gpu.log"; exit 1
+  fi
   if grep -q "rendering on the CPU" "$work/$scene.gpu.log"; then
     echo "FAIL $scene: the GPU path fell back: $(cat "$work/$scene.gpu.log")"
     status=1

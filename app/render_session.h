@@ -1,0 +1,71 @@
+// What `stormlight render` prepares for a storm at one time, kept for many frames: plan once,
+// draw many. The loaded frame, the air, the particle tables and the CPU renderer are built once;
+// the GPU pass and VTK's compositing window are kept once opened. `render` draws one frame with
+// it; `stormlight view` keeps it, so that a camera change costs one eye pass (and the sky for the
+// new view), a sun change the light volume again, xi only the eye pass, and the exposure nothing
+// here (the viewer re-tonemaps the kept HDR frame).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cli.h"
+#include "gpu_render.h"
+#include "sl_optics.h"
+#include "sl_renderer.h"
+#include "sl_sky.h"
+#include "sl_storm.h"
+
+namespace sl {
+
+class TerrainScene;
+
+class RenderSession {
+ public:
+  RenderSession();
+  ~RenderSession();
+  RenderSession(const RenderSession &) = delete;
+  RenderSession &operator=(const RenderSession &) = delete;
+
+  // From render's parsed options (declare_render_options): loads `path` at --time with the load
+  // options, places the sun (--sun-azimuth/--sun-elevation, --date, or the file's own time over
+  // the grid's centre), builds the air, the tables and the renderer. False with one line; *exit
+  // is 2 for a usage error, 1 for a failure.
+  bool prepare(const Options &o, const std::string &path, bool quiet, std::string *why, int *exit);
+
+  // Another sun (compass azimuth, elevation, degrees): the light volume is lit again on the next
+  // frame, on the GPU or the CPU.
+  bool set_sun(double elevation_deg, double compass_azimuth_deg, std::string *why);
+  void set_xi(double xi);
+
+  // The volume layer and the background for cam. gpu: the GPU pass, falling back to the CPU
+  // with *gpu_note saying why (then *gpu_done is false).
+  bool draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_image *background, sl_render_stats *stats,
+            bool *gpu_done, std::string *gpu_note, std::string *why);
+  // Composites background, VTK's props (terrain) and the volume in VTK's float framebuffer and
+  // reads the frame back (alpha and depth are the volume's).
+  bool composite(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
+                 const TerrainScene *terrain);
+
+  sl_storm_frame frame{};
+  sl_scene scene{};  // the renderer's scene: volume, air, tables, sun, xi
+  sl_renderer *renderer = nullptr;
+  double sun_elevation_deg = 0, sun_azimuth_deg = 0;  // compass
+  std::string sun_note;                               // where the sun came from, when from a date
+  double load_seconds = 0;
+
+ private:
+  struct Parts;
+  std::unique_ptr<Parts> parts_;
+  bool have_frame_ = false;
+};
+
+// The camera's orthonormal basis: forward (toward the target), right, and up (up made orthogonal).
+void camera_basis(const sl_camera &cam, double fwd[3], double right[3], double up[3]);
+
+// Writes a frame as render does: .exr linear HDR (half, or float) with the camera's matrices, the
+// sun and the scene's text (when not empty) in its header; .png tone-mapped at `exposure`.
+bool write_frame(const std::string &path, const sl_camera &cam, const sl_image &frame, const double sun_direction[3],
+                 const std::string &scene_text, bool float_exr, float exposure, std::string *why);
+
+}  // namespace sl
