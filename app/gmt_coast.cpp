@@ -183,7 +183,8 @@ bool gmt_dcw_borders(double lon0, double lon1, double lat0, double lat1, double 
   }
   // The rings that come within the tolerance (plus a margin) of the region.
   const double clon = 0.5 * (lon0 + lon1), max_abs_lat = std::max(std::fabs(lat0), std::fabs(lat1));
-  const double margin = 2.0 * tolerance_m / (EdgeGrid::metres_per_degree * std::cos(std::min(max_abs_lat, 89.0) * M_PI / 180.0));
+  const double margin =
+      2.0 * tolerance_m / (EdgeGrid::metres_per_degree * std::cos(std::min(max_abs_lat, 89.0) * M_PI / 180.0));
   std::vector<std::string> codes;
   std::vector<Ring> rings;
   for (uint64_t t = 0; t < data->n_tables; ++t)
@@ -199,7 +200,8 @@ bool gmt_dcw_borders(double lon0, double lon1, double lat0, double lat1, double 
       for (uint64_t r = 0; r < seg->n_rows; ++r) {
         GeoPoint p{seg->data[0][r], seg->data[1][r]};
         p.lon -= 360.0 * std::round((p.lon - clon) / 360.0);
-        near = near || (p.lon >= lon0 - margin && p.lon <= lon1 + margin && p.lat >= lat0 - margin && p.lat <= lat1 + margin);
+        near = near || (p.lon >= lon0 - margin && p.lon <= lon1 + margin && p.lat >= lat0 - margin &&
+                        p.lat <= lat1 + margin);
         ring.p[r] = p;
       }
       if (!near) continue;
@@ -225,7 +227,8 @@ bool gmt_dcw_borders(double lon0, double lon1, double lat0, double lat1, double 
     GeoLine run;
     for (size_t i = 0; i + 1 < ring.p.size(); ++i) {
       const GeoPoint a = ring.p[i], b = ring.p[i + 1], mid{0.5 * (a.lon + b.lon), 0.5 * (a.lat + b.lat)};
-      const int other = on[i] >= 0 && on[i + 1] >= 0 && (inside(a) || inside(b)) ? grid.nearest_other(mid, ring.country) : -1;
+      const bool ends_on = on[i] >= 0 && on[i + 1] >= 0 && (inside(a) || inside(b));
+      const int other = ends_on ? grid.nearest_other(mid, ring.country) : -1;
       // Each border once: drawn from the country whose code sorts first.
       if (other >= 0 && codes[ring.country] < codes[other]) {
         if (run.empty()) run.push_back(a);

@@ -355,10 +355,10 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   const int width = camera_.width, height = camera_.height;
   // Sunlight through the air for this camera.
   std::vector<double> rows((size_t)SL_SUNLIGHT_TABLE_SIZE * kWavelengths);
-  double z0 = 0.0, dz = 0.0;
+  double z0 = 0.0, dz = 0.0, ground_radius = 0.0;
   int night = 0;
   sl_error err{};
-  if (sl_renderer_sunlight_table(renderer_, &camera_, rows.data(), &z0, &dz, &night, &err))
+  if (sl_renderer_sunlight_table(renderer_, &camera_, rows.data(), &z0, &dz, &ground_radius, &night, &err))
     return Fail(err.message);
   std::vector<float> rowsf(rows.begin(), rows.end());
   if (!sunlight_) sunlight_ = new_float_texture(win);
@@ -405,8 +405,11 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   p->SetUniformf("slAngleInvStep", (float)model_.AngleInvStep());
   p->SetUniformi("slAngles", model_.Angles());
   p->SetUniformi("slSunlight", sunlight_->GetTextureUnit());
-  p->SetUniformf("slSunZ0", (float)(z0 - in.origin[2]));
+  p->SetUniformf("slSunZ0", (float)z0);
   p->SetUniformf("slSunDz", (float)dz);
+  const float origin[3] = {(float)in.origin[0], (float)in.origin[1], (float)in.origin[2]};
+  p->SetUniform3f("slOrigin", origin);
+  p->SetUniformf("slGroundRadius", (float)ground_radius);
   p->SetUniformf("slTermination", (float)in.termination_transparency);
   eye_quad_->Render();
   model_.Deactivate();

@@ -66,7 +66,8 @@ struct Index {
       for (size_t i = 0; i + 1 < l[k].size(); ++i) {
         const sl::GeoPoint a = l[k][i], b = l[k][i + 1];
         for (long x = ix(std::fmin(a.lon, b.lon)); x <= ix(std::fmax(a.lon, b.lon)); ++x)
-          for (long y = ix(std::fmin(a.lat, b.lat)); y <= ix(std::fmax(a.lat, b.lat)); ++y) cells[{x, y}].push_back({k, i});
+          for (long y = ix(std::fmin(a.lat, b.lat)); y <= ix(std::fmax(a.lat, b.lat)); ++y)
+            cells[{x, y}].push_back({k, i});
       }
   }
   static long ix(double deg) { return (long)std::floor(deg / cell); }
@@ -82,7 +83,8 @@ struct Index {
         if (it == cells.end()) continue;
         for (const auto &e : it->second) {
           const sl::GeoPoint a = lines[e.first][e.second], b = lines[e.first][e.second + 1];
-          const double ax = (a.lon - q.lon) * kx, ay = (a.lat - q.lat) * ky, bx = (b.lon - q.lon) * kx, by = (b.lat - q.lat) * ky;
+          const double ax = (a.lon - q.lon) * kx, ay = (a.lat - q.lat) * ky;
+          const double bx = (b.lon - q.lon) * kx, by = (b.lat - q.lat) * ky;
           const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
           const double t = len2 > 0 ? std::fmin(1.0, std::fmax(0.0, -(ax * dx + ay * dy) / len2)) : 0.0;
           best = std::fmin(best, std::hypot(ax + t * dx, ay + t * dy));
@@ -126,13 +128,14 @@ int main()
     EXPECT(ok, "%s", why.c_str());
     const double b0 = c.lon0 - 1, b1 = c.lon1 + 1, a0 = c.lat0 - 1, a1 = c.lat1 + 1;
     std::vector<Lines> cli;
-    for (const char *code : c.countries) cli.push_back(run_lines(std::string("gmt coast -E") + code + " -M", b0, b1, a0, a1));
+    const std::string gmt = "gmt coast --GMT_HISTORY=false ";
+    for (const char *code : c.countries) cli.push_back(run_lines(gmt + "-E" + code + " -M", b0, b1, a0, a1));
     std::vector<Index> outline;
     for (const Lines &l : cli) outline.emplace_back(l);
     char region[128];
     std::snprintf(region, sizeof region, "-R%g/%g/%g/%g", b0, b1, a0, a1);
     // GSHHG's level 1 (the sea's shore; its lakes include reservoirs on the Rio Grande border).
-    const Lines shore_lines = run_lines(std::string("gmt coast ") + region + " -Dl -W -A0/1/1 -M", b0, b1, a0, a1);
+    const Lines shore_lines = run_lines(gmt + region + " -Dl -W -A0/1/1 -M", b0, b1, a0, a1);
     const Index shore(shore_lines);
     size_t n = 0, on_two = 0;
     double worst_second = 0.0, near_shore_m = 0.0;
