@@ -17,6 +17,7 @@ uniform float slSunZ0, slSunDz;
 uniform vec3 slOrigin;         // world position of the lattice's sample (0,0,0)
 uniform float slGroundRadius;  // 0: altitude is world z; R: above the sphere centred at (0,0,-R)
 uniform float slTermination;
+uniform sampler2D slOpaque;    // distance along each pixel's ray to the terrain or the round earth (rows from the top)
 in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
 //VTK::Output::Dec
 
@@ -61,6 +62,7 @@ void main()
     t0 = max(t0, min(ta, tb));
     t1 = min(t1, max(ta, tb));
   }
+  t1 = min(t1, texelFetch(slOpaque, ivec2(int(px), int(py)), 0).r);
   hit = hit && t1 > t0 && t1 > 0.0;
   t0 = max(t0, 0.0);
   if (hit) {
