@@ -239,7 +239,7 @@ bool GpuVolumePass::Fail(const std::string &why)
 void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
 {
   model_.Release(w);
-  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_}) release(t, w);
+  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_}) release(t, w);
   for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_})
     if (*f) {
       if (w) (*f)->ReleaseGraphicsResources(w);
@@ -355,22 +355,30 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   const int width = camera_.width, height = camera_.height;
   // Sunlight through the air for this camera.
   std::vector<double> rows((size_t)SL_SUNLIGHT_TABLE_SIZE * kWavelengths);
-  double z0 = 0.0, dz = 0.0;
+  double z0 = 0.0, dz = 0.0, ground_radius = 0.0;
   int night = 0;
   sl_error err{};
-  if (sl_renderer_sunlight_table(renderer_, &camera_, rows.data(), &z0, &dz, &night, &err))
+  if (sl_renderer_sunlight_table(renderer_, &camera_, rows.data(), &z0, &dz, &ground_radius, &night, &err))
     return Fail(err.message);
   std::vector<float> rowsf(rows.begin(), rows.end());
   if (!sunlight_) sunlight_ = new_float_texture(win);
   if (!sunlight_->Create2DFromRaw(SL_SUNLIGHT_TABLE_SIZE, 1, kWavelengths, VTK_FLOAT, rowsf.data()))
     return Fail("the OpenGL context cannot hold the sunlight table");
+  // Where each pixel's ray meets the terrain or the round earth (sl_camera.opaque_distance, rows
+  // from the top): the eye pass stops there, as the CPU's does.
+  std::vector<float> opaque((size_t)width * height, 3.0e38f);
+  if (camera_.opaque_distance)
+    for (size_t q = 0; q < opaque.size(); ++q) opaque[q] = std::fmin(camera_.opaque_distance[q], 3.0e38f);
+  if (!opaque_) opaque_ = new_float_texture(win);
+  if (!opaque_->Create2DFromRaw(width, height, 1, VTK_FLOAT, opaque.data()))
+    return Fail("the OpenGL context cannot hold the opaque distances");
   if (!bind_float_targets(&eye_fbo_, win, width, height, 2)) return Fail("the OpenGL context has no float render targets");
   if (!ready_quad(&eye_quad_, win, with_physics(sl_shader_volume_eye)))
     return Fail("the eye pass's shader does not compile on this OpenGL context");
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, width, height);
   gl->vtkglScissor(0, 0, width, height);
-  activate({fields_, light_, sunlight_});
+  activate({fields_, light_, sunlight_, opaque_});
   model_.Activate();
   vtkShaderProgram *p = eye_quad_->Program;
   SetVolumeUniforms(p);
@@ -405,12 +413,16 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   p->SetUniformf("slAngleInvStep", (float)model_.AngleInvStep());
   p->SetUniformi("slAngles", model_.Angles());
   p->SetUniformi("slSunlight", sunlight_->GetTextureUnit());
-  p->SetUniformf("slSunZ0", (float)(z0 - in.origin[2]));
+  p->SetUniformi("slOpaque", opaque_->GetTextureUnit());
+  p->SetUniformf("slSunZ0", (float)z0);
   p->SetUniformf("slSunDz", (float)dz);
+  const float origin[3] = {(float)in.origin[0], (float)in.origin[1], (float)in.origin[2]};
+  p->SetUniform3f("slOrigin", origin);
+  p->SetUniformf("slGroundRadius", (float)ground_radius);
   p->SetUniformf("slTermination", (float)in.termination_transparency);
   eye_quad_->Render();
   model_.Deactivate();
-  deactivate({fields_, light_, sunlight_});
+  deactivate({fields_, light_, sunlight_, opaque_});
   // Read the accumulator back: radiance and transparency, then the depth numerator.
   std::vector<float> color((size_t)width * height * 4), depth((size_t)width * height * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);

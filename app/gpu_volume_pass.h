@@ -104,6 +104,7 @@ class GpuVolumePass : public vtkRenderPass {
   double light_seconds_ = 0.0, eye_seconds_ = 0.0;
   GpuModelTextures model_;
   vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
+  vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
   vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr;
   vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr;
 };

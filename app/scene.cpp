@@ -27,7 +27,7 @@ void declare_map_options(Options &o)
   o.flag("terrain", "draw the terrain (HGT) as a lit surface: eye rays stop at it, the storm shadows it");
   o.option("terrain-albedo", "A", "terrain albedo (default: the file's ALBEDO, else land 0.15, water 0.06)");
   o.flag("coastlines", "draw GSHHG coastlines (GMT) draped on the terrain");
-  o.flag("borders", "draw national borders (GSHHG/WDBII through GMT) draped on the terrain");
+  o.flag("borders", "draw national borders (DCW through GMT) draped on the terrain");
   o.flag("graticule", "draw a latitude/longitude graticule");
   o.option("graticule-step", "DEG", "graticule spacing in degrees (0 = 3 to 8 lines across the domain)", "0");
   o.flag("domain-outline", "draw the outline of the model domain");

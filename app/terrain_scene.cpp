@@ -308,8 +308,9 @@ bool TerrainScene::build(const sl_storm_frame &frame, const MapLayers &layers, c
     if (!(which ? layers.borders : layers.coastlines)) continue;
     std::vector<GeoLine> lines;
     std::string why;
-    if (!gmt_coast_lines(which ? CoastLayer::NationalBorders : CoastLayer::Shorelines, lon0 - 1, lon1 + 1, lat0 - 1,
-                         lat1 + 1, 'l', &lines, &why)) {
+    // Borders: DCW's land borders (gmt_dcw_borders; 500 m, see docs/SCENES.md); coast: GSHHG low.
+    if (!(which ? gmt_dcw_borders(lon0 - 1, lon1 + 1, lat0 - 1, lat1 + 1, 500.0, &lines, &why)
+                : gmt_coast_lines(CoastLayer::Shorelines, lon0 - 1, lon1 + 1, lat0 - 1, lat1 + 1, 'l', &lines, &why))) {
       *error = why;
       return false;
     }

@@ -12,14 +12,27 @@ uniform vec3 slContentLo, slContentHi;
 uniform vec3 slSun;            // unit vector toward the sun
 uniform float slAngleInvStep;  // the Ams tables' angular grid
 uniform int slAngles;
-uniform sampler2D slSunlight;  // sunlight at heights slSunZ0 + i slSunDz, i < 257
+uniform sampler2D slSunlight;  // sunlight at altitudes slSunZ0 + i slSunDz, i < 257
 uniform float slSunZ0, slSunDz;
+uniform vec3 slOrigin;         // world position of the lattice's sample (0,0,0)
+uniform float slGroundRadius;  // 0: altitude is world z; R: above the sphere centred at (0,0,-R)
 uniform float slTermination;
+uniform sampler2D slOpaque;    // distance along each pixel's ray to the terrain or the round earth (rows from the top)
 in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
 //VTK::Output::Dec
 
-vec3 slSunlightAt(float z)
+// sl_sky_altitude (render/sky): r - R as (x^2 + y^2 + z (z + 2R)) / (r + R), no cancellation.
+float slAltitude(vec3 x)
 {
+  vec3 w = x + slOrigin;
+  if (!(slGroundRadius > 0.0)) return w.z;
+  float R = slGroundRadius;
+  return (w.x * w.x + w.y * w.y + w.z * (w.z + 2.0 * R)) / (length(vec3(w.xy, w.z + R)) + R);
+}
+
+vec3 slSunlightAt(vec3 x)
+{
+  float z = slAltitude(x);
   float u = slSunDz > 0.0 ? (z - slSunZ0) / slSunDz : 0.0;
   u = clamp(u, 0.0, 256.0);
   int i = min(int(u), 255);
@@ -49,6 +62,7 @@ void main()
     t0 = max(t0, min(ta, tb));
     t1 = min(t1, max(ta, tb));
   }
+  t1 = min(t1, texelFetch(slOpaque, ivec2(int(px), int(py)), 0).r);
   hit = hit && t1 > t0 && t1 > 0.0;
   t0 = max(t0, 0.0);
   if (hit) {
@@ -82,7 +96,7 @@ void main()
       sl_eye_phase_at(beta, 0.5 * (l0.a + l1.a), angleIndex, angleWeight, phase);
       sl_segment_scatter_moments(b, dt, 1.0, moments);
       vec3 gathered = l0.rgb * moments[0] + (l1.rgb - l0.rgb) * moments[1];
-      radiance += T * gathered * vec3(phase[0], phase[1], phase[2]) / b * slSunlightAt(x.z);
+      radiance += T * gathered * vec3(phase[0], phase[1], phase[2]) / b * slSunlightAt(x);
       float opacity = 1.0 - exp(-b * dt);
       depth += T * opacity * tm * dot(d, slFwd);
       T *= exp(-b * dt);

@@ -24,18 +24,19 @@ void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *ou
 }
 
 int sl_renderer_sunlight_table(const sl_renderer *r, const sl_camera *cam, double *rows, double *z0, double *dz,
-                               int *night, sl_error *err)
+                               double *ground_radius, int *night, sl_error *err)
 {
   const sl_scene *sc = &r->scene;
   sl_sky_view view = {0};
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;
   sun_table *t = malloc(sizeof *t);
   if (!t) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sl__sun_table_init(t, sc, &view, r->clo[2], r->chi[2]);
+  sl__sun_table_init(t, sc, &view, r->clo, r->chi);
   for (int i = 0; i < SUN_TABLE_SIZE; ++i)
     for (int c = 0; c < t->nwl; ++c) rows[i * t->nwl + c] = t->rgb[i][c];
   *z0 = t->z0;
   *dz = t->dz;
+  *ground_radius = sc->atmosphere ? sc->atmosphere->ground_radius : 0.0;
   *night = view.night;
   free(t);
   return SL_OK;

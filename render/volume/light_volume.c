@@ -165,7 +165,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;
   sun_table *suntab = malloc(sizeof *suntab);
   if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sl__sun_table_init(suntab, sc, &view, r->clo[2], r->chi[2]);
+  sl__sun_table_init(suntab, sc, &view, r->clo, r->chi);
   const sl_light_model *m = &r->model;
   const int nwl = m->nwl, nf = m->nf;
   const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
@@ -226,7 +226,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
         light_volume_sample(r, xb, l1);
         double phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS], moments[2];
         sl_eye_phase(m, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
-        sl__sun_at_height(suntab, x[2], sunlight);
+        sl__sun_at(suntab, x, sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
          * point): the slicer's closed-form gather with no extra in-segment attenuation. */
         sl_segment_scatter_moments(beta, dt, 1.0, moments);

@@ -18,11 +18,33 @@
 
 
 
-void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi)
+/* The altitudes the box [lo, hi] spans: its bottom and top on the flat ground; on the sphere,
+ * from the bottom point nearest the sphere's centre's vertical to the top corner farthest out. */
+static void box_altitudes(const sl_atmosphere *atm, const double lo[3], const double hi[3], double *hlo, double *hhi)
+{
+  if (!atm || !(atm->ground_radius > 0.0)) {
+    *hlo = lo[2], *hhi = hi[2];
+    return;
+  }
+  double near[3], far[3];
+  for (int a = 0; a < 2; ++a) {
+    near[a] = lo[a] > 0.0 ? lo[a] : hi[a] < 0.0 ? hi[a] : 0.0;
+    far[a] = fabs(lo[a]) > fabs(hi[a]) ? lo[a] : hi[a];
+  }
+  near[2] = lo[2], far[2] = hi[2];
+  *hlo = sl_sky_altitude(atm, near, NULL);
+  *hhi = sl_sky_altitude(atm, far, NULL);
+}
+
+void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
+                        const double hi[3])
 {
   t->nwl = sc->atmosphere ? sc->atmosphere->count : SL_CHANNELS;
-  t->z0 = zlo;
-  t->dz = (zhi - zlo) / (SUN_TABLE_SIZE - 1);
+  t->atm = sc->atmosphere;
+  double hlo, hhi;
+  box_altitudes(sc->atmosphere, lo, hi, &hlo, &hhi);
+  t->z0 = hlo;
+  t->dz = (hhi - hlo) / (SUN_TABLE_SIZE - 1);
   for (int i = 0; i < SUN_TABLE_SIZE; ++i)
     for (int c = 0; c < t->nwl; ++c) {
       if (!sc->atmosphere) {
@@ -30,7 +52,7 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
         continue;
       }
       const sl_atmosphere *atm = sc->atmosphere;
-      const double z = zlo + i * t->dz;
+      const double z = hlo + i * t->dz;
       t->rgb[i][c] = view->night ? 0.0
                                  : atm->sun_irradiance[c] *
                                        exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[c], 1.0 / atm->scale_height,
@@ -38,8 +60,9 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
     }
 }
 
-void sl__sun_at_height(const sun_table *t, double z, double *out)
+void sl__sun_at(const sun_table *t, const double x[3], double *out)
 {
+  const double z = t->atm ? sl_sky_altitude(t->atm, x, NULL) : x[2];
   double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
   u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
   int i = (int)u;
@@ -444,7 +467,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sun, err)) return err->code;
   sun_table *suntab = malloc(sizeof *suntab);
   if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sl__sun_table_init(suntab, sc, &view, r->clo[2], r->chi[2]);
+  sl__sun_table_init(suntab, sc, &view, r->clo, r->chi);
   const double prop[3] = {-sun[0], -sun[1], -sun[2]};
   sl_slicing slicing;
   sl_choose_slicing(fwd, sun, &slicing);
@@ -655,7 +678,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
           n_sample += events * path_mid;
         }
         sl_eye_phase(m, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
-        sl__sun_at_height(suntab, x[2], sunlight);
+        sl__sun_at(suntab, x, sunlight);
         const double opacity = -expm1(-beta * len);
         const double depth = mid * sl__dot3(rq, fwd);
         float *a = acc + q * acc_stride;

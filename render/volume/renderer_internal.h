@@ -30,20 +30,24 @@ struct sl_renderer {
   int any_extinction;
 };
 
-/* Sunlight reaching height z through the air (Riley eq. 12 with the view's air mass), tabulated
- * over the box's heights once per frame so the eye pass only interpolates. */
+/* Sunlight reaching a point through the air (Riley eq. 12 with the view's air mass), tabulated
+ * over the altitudes (sl_sky_altitude: above the plane z = 0, or above the sphere with
+ * `--curvature drop`) the box spans, once per frame, so the eye pass only interpolates. */
 #define SUN_TABLE_SIZE 257
 typedef struct sun_table {
   int nwl;
-  double z0, dz;
+  const sl_atmosphere *atm; /* whose ground the altitudes are above; NULL: no air, one value */
+  double z0, dz;            /* altitude of row 0, altitude step */
   double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
 } sun_table;
 
 double sl__dot3(const double a[3], const double b[3]);
 void sl__cross3(const double a[3], const double b[3], double out[3]);
 int sl__normalize3(double v[3]);
-void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, double zlo, double zhi);
-void sl__sun_at_height(const sun_table *t, double z, double *out);
+void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
+                        const double hi[3]);
+/* The sunlight at world point x: the table at x's altitude. */
+void sl__sun_at(const sun_table *t, const double x[3], double *out);
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
 int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
 int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);

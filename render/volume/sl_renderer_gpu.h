@@ -28,10 +28,12 @@ typedef struct sl_renderer_gpu_inputs {
 
 void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *out);
 
-/* Sunlight reaching heights z0 + i dz (i < SL_SUNLIGHT_TABLE_SIZE) through the air for this
- * camera's view of the sky (eq. 12), rows of model->nwl values; *night set when the sun is down. */
+/* Sunlight reaching altitudes z0 + i dz (i < SL_SUNLIGHT_TABLE_SIZE) through the air for this
+ * camera's view of the sky (eq. 12), rows of model->nwl values; *night set when the sun is down.
+ * Altitudes are sl_sky_altitude's: world z, or with *ground_radius R > 0 the height above the
+ * sphere of radius R centred at (0, 0, -R). */
 int sl_renderer_sunlight_table(const sl_renderer *r, const sl_camera *cam, double *rows, double *z0, double *dz,
-                               int *night, sl_error *err);
+                               double *ground_radius, int *night, sl_error *err);
 
 /* The eye accumulator of a frame (rows from the top, `stride` floats per pixel: radiance per
  * wavelength, transparency toward the eye, opacity-weighted depth numerator) resolved into the

@@ -2,12 +2,14 @@
  * computed here: where a ray meets the sphere (the quadratic solved on vectors in long double),
  * the horizon's dip acos(R / (R + h)) found in a rendered background as the sky/ground step in
  * each column, the flat-plane limit, a cloud beyond the horizon hidden, and the frame's Z where
- * rays stop at a flat terrain or the ground (sl_image_opaque_depth, sl_image_depth_over). */
+ * rays stop at a flat terrain or the ground (sl_image_opaque_depth, sl_image_depth_over), and a
+ * dropped cloud's sunlight taken at its altitude above the sphere (the volume's sun table). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "homogeneous_reference.h"
+#include "renderer_internal.h"
 #include "sl_testing.h"
 
 static const double kR = 6370000.0; /* WRF's sphere, as sl_curvature_drop */
@@ -162,18 +164,35 @@ static void test_rendered_horizon(sl_atmosphere *atm)
 /* A cloud 400 km away with its top 3 km above the ground, seen from 1 km: the geometric horizon
  * hides everything below (d - sqrt(2 R h))^2 / 2R ~ 6.5 km there, so the round earth hides it all;
  * 150 km away (hidden below ~0.1 km) it shows. The cloud is placed as `--curvature drop` does. */
+/* The volume layer of a uniform box [lo, hi] (extinction beta) under the sun at `sun_elevation`
+ * due south, seen by cam (a 16 x 16 frame), summed over the pixels: RGB radiance and coverage. */
+static void render_box(sl_atmosphere *atm, const double lo[3], const double hi[3], double beta, double sun_elevation,
+                       const sl_camera *cam, double sum[4])
+{
+  sl_volume v;
+  make_box_volume(&v, 8, 8, 8, lo, hi, beta);
+  sl_scene sc = {.volume = &v, .atmosphere = atm, .slices = 64};
+  sl_sun_direction(sun_elevation, 180.0, sc.sun_direction);
+  sl_error err = {0};
+  sl_renderer *r = sl_renderer_create(&sc, &err);
+  sl_image layer;
+  sl_image_alloc(&layer, cam->width, cam->height, &err);
+  sl_render_stats st;
+  CHECK(sl_renderer_render(r, cam, &layer, &st, &err) == SL_OK);
+  for (int k = 0; k < 4; ++k) sum[k] = 0.0;
+  for (int i = 0; i < cam->width * cam->height; ++i)
+    for (int k = 0; k < 4; ++k) sum[k] += layer.rgba[4 * i + k];
+  sl_image_free(&layer);
+  sl_renderer_destroy(r);
+  sl_volume_free(&v);
+}
+
 static double cloud_coverage(sl_atmosphere *atm, double distance, int round)
 {
   /* the flat earth: placed on the tangent plane, nothing stops the rays (render's default) */
   const double drop = round ? distance * distance / (kR + sqrt(kR * kR - distance * distance)) : 0.0;
   const double lo[3] = {-20000, distance - 20000, 500 - drop}, hi[3] = {20000, distance + 20000, 3000 - drop};
-  sl_volume v;
-  make_box_volume(&v, 8, 8, 8, lo, hi, 1e-3);
   atm->ground_radius = round ? kR : 0.0;
-  sl_scene sc = {.volume = &v, .atmosphere = atm, .slices = 64};
-  sl_sun_direction(50.0, 180.0, sc.sun_direction);
-  sl_error err = {0};
-  sl_renderer *r = sl_renderer_create(&sc, &err);
   const int W = 16, H = 16;
   sl_camera cam = {.position = {0, 0, 1000}, .target = {0, distance, 1000 - drop}, .up = {0, 0, 1}, .fov_deg = 2,
                    .width = W, .height = H};
@@ -181,17 +200,10 @@ static double cloud_coverage(sl_atmosphere *atm, double distance, int round)
   for (int i = 0; i < W * H; ++i) opaque[i] = INFINITY;
   if (round) sl_camera_ground_distance(&cam, atm, opaque);
   cam.opaque_distance = opaque;
-  sl_image layer;
-  sl_image_alloc(&layer, W, H, &err);
-  sl_render_stats st;
-  CHECK(sl_renderer_render(r, &cam, &layer, &st, &err) == SL_OK);
-  double coverage = 0.0;
-  for (int i = 0; i < W * H; ++i) coverage += layer.rgba[4 * i + 3];
-  sl_image_free(&layer);
+  double sum[4];
+  render_box(atm, lo, hi, 1e-3, 50.0, &cam, sum);
   free(opaque);
-  sl_renderer_destroy(r);
-  sl_volume_free(&v);
-  return coverage / (W * H);
+  return sum[3] / (W * H);
 }
 
 /* Z where eye rays stop at a flat terrain 250 m high: the ray-plane distance along the view axis,
@@ -247,6 +259,89 @@ static void test_terrain_depth(void)
   sl_image_free(&bg), sl_image_free(&layer), sl_image_free(&out);
 }
 
+/* World position of a point s metres along the sphere's surface from the origin (toward +x) at
+ * altitude h above it: where `--curvature drop` puts it. */
+static void on_sphere(double s, double h, double x[3])
+{
+  const double th = s / kR;
+  x[0] = (kR + h) * sin(th), x[1] = 0.0, x[2] = (kR + h) * cos(th) - kR;
+}
+
+/* The volume's sunlight at a cloud 300 km from the origin, dropped onto the sphere, equals the
+ * sunlight of the same altitude at the origin on the flat ground, and both equal Riley eq. 12's
+ * closed form E0 exp(-beta0 H exp(-h/H) m) (m: the view's air mass) written out here: the table
+ * is indexed by the altitude above the sphere, not by world z (7.07 km lower there). */
+static void test_sun_at_altitude(const sl_atmosphere *base)
+{
+  sl_atmosphere flat = *base, round = *base;
+  flat.ground_radius = 0.0, round.ground_radius = kR;
+  double sun[3];
+  sl_sun_direction(30.0, 180.0, sun);
+  const double eye[3] = {0, 0, 1000};
+  sl_sky_view vf, vr;
+  sl_error err = {0};
+  CHECK(sl_sky_view_init(&vf, &flat, eye, sun, &err) == SL_OK);
+  CHECK(sl_sky_view_init(&vr, &round, eye, sun, &err) == SL_OK);
+  sl_scene sf = {.atmosphere = &flat}, sr = {.atmosphere = &round};
+  const double flo[3] = {-5000, -5000, 0}, fhi[3] = {5000, 5000, 15000};
+  double far[3];
+  on_sphere(3e5, 15000, far);
+  const double rlo[3] = {-5000, -5000, -8000}, rhi[3] = {far[0] + 5000, 5000, 15000};
+  sun_table *tf = malloc(sizeof *tf), *tr = malloc(sizeof *tr);
+  sl__sun_table_init(tf, &sf, &vf, flo, fhi);
+  sl__sun_table_init(tr, &sr, &vr, rlo, rhi);
+  const double H = base->scale_height;
+  double worst_flat = 0.0, worst_drop = 0.0, old_way = 0.0;
+  for (double h = 500.0; h <= 14000.0; h += 500.0) {
+    double at_origin[3] = {0, 0, h}, dropped[3], ef[SL_MAX_WAVELENGTHS], er[SL_MAX_WAVELENGTHS];
+    on_sphere(3e5, h, dropped);
+    sl__sun_at(tf, at_origin, ef);
+    sl__sun_at(tr, dropped, er);
+    for (int c = 0; c < base->count; ++c) {
+      /* the two views' air masses agree: the eye is the same */
+      const double want = base->sun_irradiance[c] * exp(-base->beta_sea_level[c] * H * exp(-h / H) * vf.airmass);
+      const double want_low = base->sun_irradiance[c] *
+                              exp(-base->beta_sea_level[c] * H * exp(-dropped[2] / H) * vf.airmass);
+      worst_flat = fmax(worst_flat, fabs(ef[c] / want - 1.0));
+      worst_drop = fmax(worst_drop, fabs(er[c] / want - 1.0));
+      old_way = fmax(old_way, fabs(want_low / want - 1.0));
+    }
+  }
+  printf("sun table against eq. 12 at 0.5-14 km: flat %.2e, dropped 300 km away %.2e (by world z it would be %.2f)\n",
+         worst_flat, worst_drop, old_way);
+  CHECK_CLOSE(vr.airmass, vf.airmass, 1e-12, 0);
+  CHECK_MSG(worst_flat < 1e-5 && worst_drop < 1e-5, "sunlight at the cloud's altitude, flat or dropped");
+  CHECK_MSG(old_way > 0.05, "the test tells altitude from world z");
+  free(tf);
+  free(tr);
+}
+
+/* The same small cloud rendered at the origin (flat ground) and 300 km away on the sphere
+ * (dropped, camera moved with it): the same sunlight reaches it, so the volume layer's radiance
+ * agrees up to the tilt of the local vertical (2.7 degrees: the eye's air mass and the air
+ * between eye and cloud). */
+static void test_dropped_cloud_render(sl_atmosphere *atm)
+{
+  double rad[2][3] = {{0}};
+  for (int round = 0; round < 2; ++round) {
+    double c[3] = {0, 0, 3000};
+    if (round) on_sphere(3e5, 3000, c);
+    const double lo[3] = {c[0] - 1000, c[1] - 1000, c[2] - 1000}, hi[3] = {c[0] + 1000, c[1] + 1000, c[2] + 1000};
+    atm->ground_radius = round ? kR : 0.0;
+    const sl_camera cam = {.position = {c[0], c[1] - 4000, c[2]}, .target = {c[0], c[1], c[2]}, .up = {0, 0, 1},
+                           .fov_deg = 40, .width = 16, .height = 16};
+    double sum[4];
+    render_box(atm, lo, hi, 5e-4, 30.0, &cam, sum);
+    for (int k = 0; k < 3; ++k) rad[round][k] = sum[k];
+  }
+  double worst = 0.0;
+  for (int k = 0; k < 3; ++k) worst = fmax(worst, fabs(rad[1][k] / rad[0][k] - 1.0));
+  printf("a cloud at 3 km rendered at the origin and 300 km away on the sphere: radiance R %.4g/%.4g G %.4g/%.4g "
+         "B %.4g/%.4g, worst %.2e\n",
+         rad[0][0], rad[1][0], rad[0][1], rad[1][1], rad[0][2], rad[1][2], worst);
+  CHECK_MSG(rad[0][2] > 0.0 && worst < 5e-3, "a dropped cloud is lit as at its altitude");
+}
+
 int main(void)
 {
   sl_atmosphere atm;
@@ -264,5 +359,7 @@ int main(void)
   CHECK_MSG(far_round < 1e-3, "a cloud beyond the horizon is hidden");
   CHECK_MSG(far_flat > 0.05 && near_round > 0.05, "and shows where the horizon does not hide it");
   test_terrain_depth();
+  test_sun_at_altitude(&atm);
+  test_dropped_cloud_render(&atm);
   return sl_test_finish("test_horizon");
 }
