@@ -94,7 +94,7 @@ bool fog_airlight(const sl_atmosphere *atm, const double sun_direction[3], const
                   std::string *why)
 {
   const double *eye = cam.position;
-  const double ground_albedo = 0.15;  // vegetated land (docs/SCENES.md's terrain default)
+  const double ground_albedo = SL_LAND_ALBEDO;  // the terrain's default over land
   double up[3] = {night_sky[0], night_sky[1], night_sky[2]}, down[3];
   for (int c = 0; c < 3; ++c) down[c] = ground_albedo * up[c];  // E = pi L from a uniform sky
   if (atm) {

@@ -262,7 +262,7 @@ bool TerrainScene::build(const sl_storm_frame &frame, const MapLayers &layers, c
         }
         source = "land 0.15 / water 0.06 from GSHHG (GMT grdlandmask)";
       }
-      for (size_t c = 0; c < n; ++c) albedo[c] = land[c] > 0.5f ? 0.15f : 0.06f;
+      for (size_t c = 0; c < n; ++c) albedo[c] = (float)(land[c] > 0.5f ? SL_LAND_ALBEDO : SL_WATER_ALBEDO);
     }
     sl_terrain_light_params p{};
     p.terrain = &m.hf;

@@ -8,6 +8,11 @@
 #include "sl_status.h"
 #include "sl_volume.h"
 
+/* Diffuse albedo of the ground where a file gives none (Briegleb et al. 1986): vegetated land
+ * and open ocean. One home for the terrain's default and the fog bank's ground airlight. */
+#define SL_LAND_ALBEDO 0.15
+#define SL_WATER_ALBEDO 0.06
+
 #ifdef __cplusplus
 extern "C" {
 #endif
