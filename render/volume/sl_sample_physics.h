@@ -215,9 +215,9 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
     /* Taylor series to x^6 (truncation below 2e-9): the closed form of result[1] cancels to second
      * order near x = 0, which in float costs 1e-3 of relative accuracy already at x = 1e-2. */
     result[0] = beta * len *
-             (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x * (1.0 / 720.0 - x / 5040.0))))));
+             (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x * (1.0 / 720.0 - x * (1.0 / 5040.0)))))));
     result[1] = beta * len *
-             (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x / 5760.0))))));
+             (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x * (1.0 / 5760.0)))))));
     return;
   }
   SL_REAL e = sl_exp(-x);

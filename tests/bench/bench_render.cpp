@@ -189,8 +189,9 @@ int main(int argc, char **argv)
     std::snprintf(image, sizeof image, "%dx%d", c.size, c.size);
     std::snprintf(buffer, sizeof buffer, "%dx%d", t.lw, t.lh);
     if (c.light_volume)
-      std::printf("%-18s %9s %7s %12s %10.3f %10.3f %10.3f %8.2f   (light volume built once; frames pay the eye pass)\n",
-                  c.name, image, "-", "grid", t.light, t.eye, t.eye, 1.0 / t.eye);
+      std::printf("%-18s %9s %7s %12s %10.3f %10.3f %10.3f %8.2f   (light volume built once; frames pay the eye pass: "
+                  "%.1fM eye samples; %.3f CPU s)\n",
+                  c.name, image, "-", "grid", t.light, t.eye, t.eye, 1.0 / t.eye, 1e-6 * t.eye_samples, t.cpu);
     else
       std::printf("%-18s %9s %7d %12s %10.3f %10.3f %10.3f %8.2f   (%.1fM light, %.1fM eye samples; %.3f CPU s)\n",
                   c.name, image, t.slices, buffer, t.light, t.eye, t.frame, 1.0 / t.frame, 1e-6 * t.light_samples,
