@@ -160,16 +160,10 @@ static double empty_brick_exit(const sl_renderer *r, const double x[3], const do
 {
   const sl_grid_view *g = &r->beta_view;
   int b[3];
-  for (int a = 0; a < 3; ++a) {
-    double u = (x[a] - g->origin[a]) * g->inv_spacing[a];
-    const double umax = (double)(g->n[a] - 1);
-    u = u < 0.0 ? 0.0 : u > umax ? umax : u;
-    int i = (int)u;
-    if (i > g->n[a] - 2) i = g->n[a] - 2;
-    if (i < 0) i = 0;
-    b[a] = i / 8;
-  }
-  if (r->occupied[((size_t)b[2] * r->bricks[1] + b[1]) * r->bricks[0] + b[0]]) return -1.0;
+  double f[3];
+  sl__lattice_cell(g, x, b, f);
+  if (sl__brick_occupied(r, b)) return -1.0;
+  for (int a = 0; a < 3; ++a) b[a] /= 8;
   double best = INFINITY;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) continue;

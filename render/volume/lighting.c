@@ -67,24 +67,21 @@ void sl_light_model_free(sl_light_model *m)
 
 double sl_log_forward_product(const sl_light_model *m, int j, int c, double n, double events)
 {
-  return sl_log_forward_product_at(m, j, c, n, events);
+  return sl_log_forward_product_at(m, m->nf, m->nwl, j, c, n, events);
 }
 
 void sl_light_fraction(const sl_light_model *m, const float *beta, double n, double len, double *fraction)
 {
-  sl_light_fraction_at(m, beta, n, len, fraction);
+  sl_light_fraction_at(m, m->nf, m->nwl, beta, n, len, fraction);
 }
 
 void sl_light_step(const sl_light_model *m, const float *beta, double len, float *I, float *n)
 {
-  double fraction[SL_MAX_WAVELENGTHS];
-  sl_light_fraction_at(m, beta, *n, len, fraction);
-  for (int c = 0; c < m->nwl; ++c) I[c] = (float)(I[c] * fraction[c]);
-  if (m->mode != SL_LIGHTING_LOW_ALBEDO) *n = (float)sl_expected_scatter_count(m, beta, *n, len);
+  sl_light_step_at(m, m->nf, m->nwl, beta, len, I, n);
 }
 
 void sl_eye_phase(const sl_light_model *m, const float *beta, double n, int angle_index, double angle_weight,
                   double *out)
 {
-  sl_eye_phase_at(m, beta, n, angle_index, angle_weight, out);
+  sl_eye_phase_at(m, m->nf, m->nwl, beta, n, angle_index, angle_weight, out);
 }

@@ -351,45 +351,9 @@ void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const doub
   img->depth[q] = coverage > 1e-4 ? (float)(a[nwl + 1] / coverage) : INFINITY;
 }
 
-/* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample);
- * returns 0 and zeros outside the box. */
 int sl__sample_fields(const sl_renderer *r, const double x[3], float *out)
 {
-  const sl_grid_view *g = &r->beta_view;
-  const int nf = r->model.nf;
-  int i0[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a) {
-    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) {
-      for (int j = 0; j < nf; ++j) out[j] = 0.0f;
-      return 0;
-    }
-    double u = (x[a] - g->origin[a]) * g->inv_spacing[a];
-    const double umax = (double)(g->n[a] - 1);
-    u = u < 0.0 ? 0.0 : u > umax ? umax : u;
-    int i = (int)u;
-    if (i > g->n[a] - 2) i = g->n[a] - 2;
-    if (i < 0) i = 0;
-    i0[a] = i;
-    f[a] = g->n[a] > 1 ? u - i : 0.0;
-  }
-  if (!r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8]) {
-    for (int j = 0; j < nf; ++j) out[j] = 0.0f;
-    return 0;
-  }
-  const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
-  const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
-  const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
-  const float *c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
-  for (int j = 0; j < nf; ++j) {
-    const double c00 = c[j] + f[0] * (c[sx + j] - c[j]);
-    const double c10 = c[sy + j] + f[0] * (c[sy + sx + j] - c[sy + j]);
-    const double c01 = c[sz + j] + f[0] * (c[sz + sx + j] - c[sz + j]);
-    const double c11 = c[sz + sy + j] + f[0] * (c[sz + sy + sx + j] - c[sz + sy + j]);
-    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
-    out[j] = (float)(c0 + f[2] * (c1 - c0));
-  }
-  return 1;
+  return sl__sample_fields_n(r, r->model.nf, x, out);
 }
 
 typedef struct light_buffer {
@@ -476,6 +440,274 @@ void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3
   const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;
   for (int a = 0; a < 3; ++a) d[a] = fwd[a] + sx * right[a] + sy * up[a];
   sl__normalize3(d);
+}
+
+/* Everything a frame of the slicer needs once its buffers are set up. */
+typedef struct slicer_frame {
+  sl_renderer *r;
+  const sl_camera *cam;
+  sl_image *img;
+  const sl_sky_view *view;
+  sun_table *suntab;
+  light_buffer *L;
+  tile_ranges *eye_tiles, *light_tiles;
+  float *acc;
+  double *ray;
+  int *pk, *angle_index;
+  float *angle_weight;
+  const sl_phase_table *grid_table;
+  double fwd[3], right[3], up[3], h[3], prop[3];
+  box_exit sun_exit;
+  double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
+  int nslices, back_to_front;
+  long eye_samples, light_samples;
+  double light_seconds, eye_seconds;
+} slicer_frame;
+
+/* One thread's share of a frame's passes (called by every thread of a parallel region; the
+ * work-sharing loops inside bind to it): light-buffer and ray set-up, then per slice the eye pass
+ * and the light pass, then the resolve. Always inlined into slicer_run's parallel regions, each
+ * with constant field and wavelength counts, so that the per-sample loops over fields and
+ * wavelengths unroll. The parallel region has to be opened there, around the inlined call:
+ * OpenMP outlines a region before inlining, so counts inside a region opened here would reach
+ * its body as run-time values. */
+static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f, const int nf, const int nwl)
+{
+  sl_renderer *r = f->r;
+  const sl_scene *sc = &r->scene;
+  const sl_light_model *m = &r->model;
+  const sl_camera *cam = f->cam;
+  sl_image *img = f->img;
+  const sl_sky_view *view = f->view;
+  const sun_table *suntab = f->suntab;
+  const light_buffer L = *f->L;
+  tile_ranges eye_tiles = *f->eye_tiles, light_tiles = *f->light_tiles;
+  float *acc = f->acc;
+  double *ray = f->ray;
+  int *pk = f->pk, *angle_index = f->angle_index;
+  float *angle_weight = f->angle_weight;
+  const sl_phase_table *grid_table = f->grid_table;
+  const double *fwd = f->fwd, *right = f->right, *up = f->up, *h = f->h, *prop = f->prop;
+  const double *sun = sc->sun_direction, *o = cam->position;
+  const box_exit sun_exit = f->sun_exit;
+  const double tan_half = f->tan_half, aspect = f->aspect, h_o = f->h_o, hp = f->hp, inv_hp = f->inv_hp;
+  const double smin = f->smin, ds = f->ds;
+  const int nslices = f->nslices, back_to_front = f->back_to_front;
+  const int acc_stride = nwl + 2;
+  const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
+  long eye_samples = 0, light_samples = 0;
+
+  {
+#pragma omp for schedule(static)
+    for (size_t t = 0; t < nl; ++t) {
+      const int i = (int)(t % L.w), j = (int)(t / L.w);
+      const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+      const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
+      double u0, u1;
+      float *st = L.state + t * L.stride;
+      for (int c = 0; c < nwl; ++c) st[c] = 1.0f;
+      st[nwl] = 0.0f;
+      L.h_origin[t] = sl__dot3(h, origin);
+      L.k_lo[t] = 1, L.k_hi[t] = 0;
+      if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
+        L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
+        const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
+        L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
+        L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
+      }
+    }
+#pragma omp for schedule(static)
+    for (size_t q = 0; q < np; ++q) {
+      double d[3];
+      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+                (int)(q / img->width), d);
+      float *a = acc + q * acc_stride;
+      a[nwl] = 1.0f; /* transparency toward the eye */
+      double *rq = ray + q * RAY_STRIDE;
+      rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
+      rq[5] = sl__dot3(h, d);
+      rq[6] = rq[5] != 0.0 ? 1.0 / rq[5] : 0.0;
+      pk[2 * q] = 1, pk[2 * q + 1] = 0;
+      angle_index[q] = 0, angle_weight[q] = 0.0f;
+      if (grid_table) {
+        /* Scattering angle between the sunlight's propagation and the direction to the eye. */
+        double c = sl__dot3(sun, d);
+        c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+        const double u = acos(c) * grid_table->inv_step_rad;
+        int i = (int)u;
+        if (i > grid_table->n_angles - 2) i = grid_table->n_angles - 2;
+        angle_index[q] = i;
+        angle_weight[q] = (float)(u - i > 1.0 ? 1.0 : u - i);
+      }
+      double t0, t1;
+      /* A ray almost parallel to the slices crosses none of them within the box. */
+      if (fabs(rq[5]) < 1e-9 || !sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
+      if (t0 < 0.0) t0 = 0.0;
+      if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
+      if (t1 <= t0) continue; /* an opaque surface in front of the volume */
+      rq[3] = t0, rq[4] = t1;
+      const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
+      pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;
+      pk[2 * q + 1] = (int)floor((fmax(s0, s1) - smin) / ds) + 1;
+    }
+    const size_t n_eye_tiles = (size_t)eye_tiles.nx * eye_tiles.ny, n_light_tiles = (size_t)light_tiles.nx * light_tiles.ny;
+#pragma omp for schedule(static)
+    for (size_t i = 0; i < n_eye_tiles; ++i) tile_range_from(&eye_tiles, i, img->width, img->height, pk, pk + 1, 2);
+#pragma omp for schedule(static)
+    for (size_t i = 0; i < n_light_tiles; ++i) tile_range_from(&light_tiles, i, L.w, L.h, L.k_lo, L.k_hi, 1);
+
+    for (int k = 0; k < nslices && r->any_extinction; ++k) {
+      const double sk = smin + (k + 0.5) * ds;
+      double t_start = 0.0;
+#pragma omp master
+      t_start = omp_get_wtime();
+      /* Eye pass: gather the light scattered toward the eye from this slice (eq. 26). */
+#pragma omp for schedule(dynamic, 1)
+      for (size_t ti = 0; ti < n_eye_tiles; ++ti) {
+        if (k < eye_tiles.k[2 * ti] || k > eye_tiles.k[2 * ti + 1]) continue;
+        const int tx0 = (int)(ti % eye_tiles.nx) * TILE, ty0 = (int)(ti / eye_tiles.nx) * TILE;
+        for (int py = ty0; py < ty0 + TILE && py < img->height; ++py)
+        for (int px = tx0; px < tx0 + TILE && px < img->width; ++px) {
+        const size_t q = (size_t)py * img->width + px;
+        if (k < pk[2 * q] || k > pk[2 * q + 1]) continue;
+        const double *rq = ray + q * RAY_STRIDE;
+        double mid, len;
+        if (!clip_segment((sk - h_o) * rq[6], 0.5 * ds * fabs(rq[6]), rq[3], rq[4], &mid, &len)) continue;
+        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
+        float beta_j[SL_MAX_FIELDS];
+        sl__sample_fields_n(r, nf, x, beta_j);
+        double beta = 0.0;
+        for (int j = 0; j < nf; ++j) beta += beta_j[j];
+        eye_samples++;
+        if (!(beta > 0.0)) continue;
+        /* The light buffer holds the light up to this slab's first plane; from there the light
+         * crosses this slab's own medium for a path that grows linearly along the eye segment.
+         * The buffer value is taken linear between the segment's two ends and the slab's own
+         * attenuation exponential in the path, so the gather has a closed form
+         * (sl_segment_scatter_moments). */
+        const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
+        const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
+        const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
+        const double s_start = sk - 0.5 * ds;
+        const double path_near = fmax(0.0, fmin((sl__dot3(h, x_near) - s_start) * inv_hp,
+                                                box_exit_distance(&sun_exit, x_near)));
+        const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) * inv_hp,
+                                               box_exit_distance(&sun_exit, x_far)));
+        const double inv_beta = 1.0 / beta;
+        const double light_rate = (path_far - path_near) / len;
+        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
+        light_lookup(&L, x_near, l0);
+        light_lookup(&L, x_far, l1);
+        /* Within the slab, the light keeps fraction(path) of itself (eq. 24 or the plain
+         * transparency); its log, per metre of path, is the slab's effective extinction. */
+        const double path_mid = 0.5 * (path_near + path_far);
+        const double n_here = 0.5 * (l0[nwl] + l1[nwl]);
+        double kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
+        const double probe = fmax(path_mid, 1e-3 * inv_beta), inv_probe = 1.0 / probe;
+        sl_light_fraction_at(m, nf, nwl, beta_j, n_here, probe, kept);
+        double n_sample = n_here;
+        if (m->mode != SL_LIGHTING_LOW_ALBEDO) {
+          double events = 0.0;
+          for (int j = 0; j < nf; ++j) events += m->albedo_mean[j] * beta_j[j];
+          n_sample += events * path_mid;
+        }
+        sl_eye_phase_at(m, nf, nwl, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
+        sl__sun_at(suntab, x, sunlight);
+        const double opacity = -expm1(-beta * len);
+        const double depth = mid * sl__dot3(rq, fwd);
+        float *a = acc + q * acc_stride;
+        const double w = back_to_front ? 1.0 : a[nwl];
+        for (int c = 0; c < nwl; ++c) {
+          const double slab_extinction = kept[c] > 0.0 ? -log(kept[c]) * inv_probe : beta;
+          double moments[2];
+          sl_segment_scatter_moments(beta, len, 1.0 + slab_extinction * inv_beta * light_rate, moments);
+          const double gathered = exp(-slab_extinction * path_near) * (l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1]);
+          /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
+           * phase term (beta_sca Ams) over beta. */
+          const double radiance = gathered * phase[c] * inv_beta * sunlight[c];
+          if (back_to_front) a[c] = (float)(a[c] * (1.0 - opacity) + radiance);
+          else a[c] += (float)(w * radiance);
+        }
+        if (back_to_front) a[nwl + 1] = (float)(a[nwl + 1] * (1.0 - opacity) + opacity * depth);
+        else a[nwl + 1] += (float)(w * opacity * depth);
+        a[nwl] *= (float)exp(-beta * len);
+        if (!back_to_front && a[nwl] < sc->termination_transparency) pk[2 * q + 1] = k;
+        }
+      }
+#pragma omp master
+      {
+        const double t_mid = omp_get_wtime();
+        f->eye_seconds += t_mid - t_start;
+        t_start = t_mid;
+      }
+      /* Light pass: carry the light and its expected scattering count through this slice. */
+#pragma omp for schedule(dynamic, 1)
+      for (size_t ti = 0; ti < n_light_tiles; ++ti) {
+        if (k < light_tiles.k[2 * ti] || k > light_tiles.k[2 * ti + 1]) continue;
+        const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
+        for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty)
+        for (int tx = tx0; tx < tx0 + TILE && tx < L.w; ++tx) {
+        const size_t t = (size_t)ty * L.w + tx;
+        if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
+        double mid, len;
+        if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len)) continue;
+        const int i = (int)(t % L.w), j = (int)(t / L.w);
+        const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+        const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
+                             ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
+        float beta_j[SL_MAX_FIELDS];
+        sl__sample_fields_n(r, nf, x, beta_j);
+        light_samples++;
+        float *st = L.state + t * L.stride;
+        double beta = 0.0;
+        for (int f = 0; f < nf; ++f) beta += beta_j[f];
+        if (beta > 0.0) sl_light_step_at(m, nf, nwl, beta_j, len, st, st + nwl);
+        }
+      }
+#pragma omp master
+      {
+        f->light_seconds += omp_get_wtime() - t_start;
+        if (sc->progress) sc->progress(sc->progress_user, (k + 1.0) / nslices);
+      }
+    }
+
+    /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. With an
+     * atmosphere the air in front of the volume's midplane (sec. 5) attenuates the volume and adds
+     * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
+     * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame.
+     * Spectral radiance becomes linear sRGB here. */
+    const double h_center = sl__dot3(h, r->content_center);
+#pragma omp for schedule(static)
+    for (size_t q = 0; q < np; ++q) {
+      const double *rq = ray + q * RAY_STRIDE;
+      double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
+      t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
+      sl__resolve_pixel(r, sc->atmosphere ? view : NULL, rq, t_mid, acc + q * acc_stride, img, q);
+    }
+  }
+#pragma omp atomic
+  f->eye_samples += eye_samples;
+#pragma omp atomic
+  f->light_samples += light_samples;
+}
+
+/* The field and wavelength counts the passes are compiled for: one to four fields at three
+ * wavelengths (RGB) and at sixteen (spectral); any other count runs the general copy. */
+static void slicer_run(slicer_frame *f)
+{
+  const int nf = f->r->model.nf, nwl = f->r->model.nwl;
+  f->eye_samples = f->light_samples = 0;
+  f->eye_seconds = f->light_seconds = 0.0;
+#define SL_SLICER_CASE(NF, NWL) \
+  if (nf == NF && nwl == NWL) { \
+    _Pragma("omp parallel") slicer_passes(f, NF, NWL); \
+    return; \
+  }
+  SL_SLICER_CASE(1, 3) SL_SLICER_CASE(2, 3) SL_SLICER_CASE(3, 3) SL_SLICER_CASE(4, 3)
+  SL_SLICER_CASE(1, 16) SL_SLICER_CASE(2, 16) SL_SLICER_CASE(3, 16) SL_SLICER_CASE(4, 16)
+#undef SL_SLICER_CASE
+#pragma omp parallel
+  slicer_passes(f, nf, nwl);
 }
 
 int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats, sl_error *err)
@@ -592,198 +824,16 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
   const double h_o = sl__dot3(h, o);
-  long eye_samples = 0, light_samples = 0;
-  double light_seconds = 0.0, eye_seconds = 0.0;
-
-#pragma omp parallel reduction(+ : eye_samples, light_samples)
-  {
-#pragma omp for schedule(static)
-    for (size_t t = 0; t < nl; ++t) {
-      const int i = (int)(t % L.w), j = (int)(t / L.w);
-      const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
-      const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
-      double u0, u1;
-      float *st = L.state + t * L.stride;
-      for (int c = 0; c < nwl; ++c) st[c] = 1.0f;
-      st[nwl] = 0.0f;
-      L.h_origin[t] = sl__dot3(h, origin);
-      L.k_lo[t] = 1, L.k_hi[t] = 0;
-      if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
-        L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
-        const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
-        L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
-        L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
-      }
-    }
-#pragma omp for schedule(static)
-    for (size_t q = 0; q < np; ++q) {
-      double d[3];
-      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
-                (int)(q / img->width), d);
-      float *a = acc + q * acc_stride;
-      a[nwl] = 1.0f; /* transparency toward the eye */
-      double *rq = ray + q * RAY_STRIDE;
-      rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
-      rq[5] = sl__dot3(h, d);
-      rq[6] = rq[5] != 0.0 ? 1.0 / rq[5] : 0.0;
-      pk[2 * q] = 1, pk[2 * q + 1] = 0;
-      angle_index[q] = 0, angle_weight[q] = 0.0f;
-      if (grid_table) {
-        /* Scattering angle between the sunlight's propagation and the direction to the eye. */
-        double c = sl__dot3(sun, d);
-        c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
-        const double u = acos(c) * grid_table->inv_step_rad;
-        int i = (int)u;
-        if (i > grid_table->n_angles - 2) i = grid_table->n_angles - 2;
-        angle_index[q] = i;
-        angle_weight[q] = (float)(u - i > 1.0 ? 1.0 : u - i);
-      }
-      double t0, t1;
-      /* A ray almost parallel to the slices crosses none of them within the box. */
-      if (fabs(rq[5]) < 1e-9 || !sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
-      if (t0 < 0.0) t0 = 0.0;
-      if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
-      if (t1 <= t0) continue; /* an opaque surface in front of the volume */
-      rq[3] = t0, rq[4] = t1;
-      const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
-      pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;
-      pk[2 * q + 1] = (int)floor((fmax(s0, s1) - smin) / ds) + 1;
-    }
-    const size_t n_eye_tiles = (size_t)eye_tiles.nx * eye_tiles.ny, n_light_tiles = (size_t)light_tiles.nx * light_tiles.ny;
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n_eye_tiles; ++i) tile_range_from(&eye_tiles, i, img->width, img->height, pk, pk + 1, 2);
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n_light_tiles; ++i) tile_range_from(&light_tiles, i, L.w, L.h, L.k_lo, L.k_hi, 1);
-
-    for (int k = 0; k < nslices && r->any_extinction; ++k) {
-      const double sk = smin + (k + 0.5) * ds;
-      double t_start = 0.0;
-#pragma omp master
-      t_start = omp_get_wtime();
-      /* Eye pass: gather the light scattered toward the eye from this slice (eq. 26). */
-#pragma omp for schedule(dynamic, 1)
-      for (size_t ti = 0; ti < n_eye_tiles; ++ti) {
-        if (k < eye_tiles.k[2 * ti] || k > eye_tiles.k[2 * ti + 1]) continue;
-        const int tx0 = (int)(ti % eye_tiles.nx) * TILE, ty0 = (int)(ti / eye_tiles.nx) * TILE;
-        for (int py = ty0; py < ty0 + TILE && py < img->height; ++py)
-        for (int px = tx0; px < tx0 + TILE && px < img->width; ++px) {
-        const size_t q = (size_t)py * img->width + px;
-        if (k < pk[2 * q] || k > pk[2 * q + 1]) continue;
-        const double *rq = ray + q * RAY_STRIDE;
-        double mid, len;
-        if (!clip_segment((sk - h_o) * rq[6], 0.5 * ds * fabs(rq[6]), rq[3], rq[4], &mid, &len)) continue;
-        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-        float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields(r, x, beta_j);
-        double beta = 0.0;
-        for (int j = 0; j < nf; ++j) beta += beta_j[j];
-        eye_samples++;
-        if (!(beta > 0.0)) continue;
-        /* The light buffer holds the light up to this slab's first plane; from there the light
-         * crosses this slab's own medium for a path that grows linearly along the eye segment.
-         * The buffer value is taken linear between the segment's two ends and the slab's own
-         * attenuation exponential in the path, so the gather has a closed form
-         * (sl_segment_scatter_moments). */
-        const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
-        const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
-        const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
-        const double s_start = sk - 0.5 * ds;
-        const double path_near = fmax(0.0, fmin((sl__dot3(h, x_near) - s_start) * inv_hp,
-                                                box_exit_distance(&sun_exit, x_near)));
-        const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) * inv_hp,
-                                               box_exit_distance(&sun_exit, x_far)));
-        const double inv_beta = 1.0 / beta;
-        const double light_rate = (path_far - path_near) / len;
-        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
-        light_lookup(&L, x_near, l0);
-        light_lookup(&L, x_far, l1);
-        /* Within the slab, the light keeps fraction(path) of itself (eq. 24 or the plain
-         * transparency); its log, per metre of path, is the slab's effective extinction. */
-        const double path_mid = 0.5 * (path_near + path_far);
-        const double n_here = 0.5 * (l0[nwl] + l1[nwl]);
-        double kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
-        const double probe = fmax(path_mid, 1e-3 * inv_beta), inv_probe = 1.0 / probe;
-        sl_light_fraction(m, beta_j, n_here, probe, kept);
-        double n_sample = n_here;
-        if (m->mode != SL_LIGHTING_LOW_ALBEDO) {
-          double events = 0.0;
-          for (int j = 0; j < nf; ++j) events += m->albedo_mean[j] * beta_j[j];
-          n_sample += events * path_mid;
-        }
-        sl_eye_phase(m, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
-        sl__sun_at(suntab, x, sunlight);
-        const double opacity = -expm1(-beta * len);
-        const double depth = mid * sl__dot3(rq, fwd);
-        float *a = acc + q * acc_stride;
-        const double w = back_to_front ? 1.0 : a[nwl];
-        for (int c = 0; c < nwl; ++c) {
-          const double slab_extinction = kept[c] > 0.0 ? -log(kept[c]) * inv_probe : beta;
-          double moments[2];
-          sl_segment_scatter_moments(beta, len, 1.0 + slab_extinction * inv_beta * light_rate, moments);
-          const double gathered = exp(-slab_extinction * path_near) * (l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1]);
-          /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
-           * phase term (beta_sca Ams) over beta. */
-          const double radiance = gathered * phase[c] * inv_beta * sunlight[c];
-          if (back_to_front) a[c] = (float)(a[c] * (1.0 - opacity) + radiance);
-          else a[c] += (float)(w * radiance);
-        }
-        if (back_to_front) a[nwl + 1] = (float)(a[nwl + 1] * (1.0 - opacity) + opacity * depth);
-        else a[nwl + 1] += (float)(w * opacity * depth);
-        a[nwl] *= (float)exp(-beta * len);
-        if (!back_to_front && a[nwl] < sc->termination_transparency) pk[2 * q + 1] = k;
-        }
-      }
-#pragma omp master
-      {
-        const double t_mid = omp_get_wtime();
-        eye_seconds += t_mid - t_start;
-        t_start = t_mid;
-      }
-      /* Light pass: carry the light and its expected scattering count through this slice. */
-#pragma omp for schedule(dynamic, 1)
-      for (size_t ti = 0; ti < n_light_tiles; ++ti) {
-        if (k < light_tiles.k[2 * ti] || k > light_tiles.k[2 * ti + 1]) continue;
-        const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
-        for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty)
-        for (int tx = tx0; tx < tx0 + TILE && tx < L.w; ++tx) {
-        const size_t t = (size_t)ty * L.w + tx;
-        if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
-        double mid, len;
-        if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len)) continue;
-        const int i = (int)(t % L.w), j = (int)(t / L.w);
-        const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
-        const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
-                             ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
-        float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields(r, x, beta_j);
-        light_samples++;
-        float *st = L.state + t * L.stride;
-        double beta = 0.0;
-        for (int f = 0; f < nf; ++f) beta += beta_j[f];
-        if (beta > 0.0) sl_light_step(m, beta_j, len, st, st + nwl);
-        }
-      }
-#pragma omp master
-      {
-        light_seconds += omp_get_wtime() - t_start;
-        if (sc->progress) sc->progress(sc->progress_user, (k + 1.0) / nslices);
-      }
-    }
-
-    /* Resolve: premultiplied volume radiance, opacity and the opacity-weighted depth. With an
-     * atmosphere the air in front of the volume's midplane (sec. 5) attenuates the volume and adds
-     * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
-     * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame.
-     * Spectral radiance becomes linear sRGB here. */
-    const double h_center = sl__dot3(h, r->content_center);
-#pragma omp for schedule(static)
-    for (size_t q = 0; q < np; ++q) {
-      const double *rq = ray + q * RAY_STRIDE;
-      double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
-      t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
-      sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, rq, t_mid, acc + q * acc_stride, img, q);
-    }
-  }
+  slicer_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
+                    .eye_tiles = &eye_tiles, .light_tiles = &light_tiles, .acc = acc, .ray = ray, .pk = pk,
+                    .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
+                    .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
+                    .inv_hp = inv_hp, .smin = smin, .ds = ds, .nslices = nslices, .back_to_front = back_to_front};
+  for (int a = 0; a < 3; ++a)
+    f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a], f.h[a] = h[a], f.prop[a] = prop[a];
+  slicer_run(&f);
+  const long eye_samples = f.eye_samples, light_samples = f.light_samples;
+  const double light_seconds = f.light_seconds, eye_seconds = f.eye_seconds;
   if (stats) {
     stats->light_seconds = light_seconds;
     stats->eye_seconds = eye_seconds;

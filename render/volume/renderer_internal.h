@@ -50,6 +50,62 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
 void sl__sun_at(const sun_table *t, const double x[3], double *out);
 double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
 int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
+
+/* The lattice cell holding x (clamped into the grid, the rule of sl_grid_sample): its lower
+ * corner i0 and the fractions f within it. */
+static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid_view *g, const double x[3], int i0[3],
+                                                                   double f[3])
+{
+  for (int a = 0; a < 3; ++a) {
+    double u = (x[a] - g->origin[a]) * g->inv_spacing[a];
+    const double umax = (double)(g->n[a] - 1);
+    u = u < 0.0 ? 0.0 : u > umax ? umax : u;
+    int i = (int)u;
+    if (i > g->n[a] - 2) i = g->n[a] - 2;
+    if (i < 0) i = 0;
+    i0[a] = i;
+    f[a] = g->n[a] > 1 ? u - i : 0.0;
+  }
+}
+
+static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3])
+{
+  return r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
+}
+
+/* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample);
+ * returns 0 and zeros outside the box or in an empty brick. nf is r->model.nf, passed apart so
+ * that the specialised passes give it as a constant. */
+static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_renderer *r, const int nf,
+                                                                     const double x[3], float *out)
+{
+  const sl_grid_view *g = &r->beta_view;
+  int i0[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) {
+      for (int j = 0; j < nf; ++j) out[j] = 0.0f;
+      return 0;
+    }
+  sl__lattice_cell(g, x, i0, f);
+  if (!sl__brick_occupied(r, i0)) {
+    for (int j = 0; j < nf; ++j) out[j] = 0.0f;
+    return 0;
+  }
+  const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
+  const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
+  const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
+  const float *c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
+  for (int j = 0; j < nf; ++j) {
+    const double c00 = c[j] + f[0] * (c[sx + j] - c[j]);
+    const double c10 = c[sy + j] + f[0] * (c[sy + sx + j] - c[sy + j]);
+    const double c01 = c[sz + j] + f[0] * (c[sz + sx + j] - c[sz + j]);
+    const double c11 = c[sz + sy + j] + f[0] * (c[sz + sy + sx + j] - c[sz + sy + j]);
+    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
+    out[j] = (float)(c0 + f[2] * (c1 - c0));
+  }
+  return 1;
+}
 int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
 void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
                    int width, int height, int px, int py, double d[3]);

@@ -36,16 +36,19 @@
 #define sl_ceil ceil
 #define sl_pow pow
 #endif
-#define SL_INLINE static inline
+/* Always inlined: the renderer's passes are compiled once per field and wavelength count
+ * (renderer.c), and the counts reach these loops as constants only through inlining. */
+#define SL_INLINE static inline __attribute__((always_inline))
 #define SL_INT(x) ((int)(x))
 #define SL_TO_REAL(x) ((SL_REAL)(x))
 #define SL_IN_ARRAY(T, name, n) const T name[n]
 #define SL_OUT_ARRAY(T, name, n) T name[n]
-/* The model: one pointer in C, uniforms in GLSL. */
-#define SL_MODEL_PARAM const sl_light_model *m,
-#define SL_MODEL_ARG m,
-#define SL_NF (m->nf)
-#define SL_NWL (m->nwl)
+/* The model: one pointer in C, uniforms in GLSL. In C the field and wavelength counts travel
+ * beside it (m->nf, m->nwl, or constants where the caller is specialised for them). */
+#define SL_MODEL_PARAM const sl_light_model *m, __attribute__((unused)) const int sl_nf, __attribute__((unused)) const int sl_nwl,
+#define SL_MODEL_ARG m, sl_nf, sl_nwl,
+#define SL_NF (sl_nf)
+#define SL_NWL (sl_nwl)
 #define SL_MODE (m->mode)
 #define SL_XI (m->xi)
 #define SL_ALBEDO_MEAN(j) (m->albedo_mean[j])
@@ -224,5 +227,18 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
   result[0] = beta * len * (1.0 - e) / x;
   result[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
 }
+
+#ifndef SL_GLSL
+/* C only (it updates through pointers): one light-buffer step through a chord len of a sample
+ * with per-field extinction beta: I[c] times eq. 24's (or 25's) fraction, and n grown by eq. 21.
+ * The GPU sweep writes the same two lines in GLSL around sl_light_fraction_at. */
+SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *I, float *n)
+{
+  SL_REAL fraction[SL_MAX_WAVELENGTHS];
+  sl_light_fraction_at(SL_MODEL_ARG beta, *n, len, fraction);
+  for (int c = 0; c < SL_NWL; ++c) I[c] = (float)(I[c] * fraction[c]);
+  if (SL_MODE != SL_MODE_LOW_ALBEDO) *n = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, *n, len);
+}
+#endif
 
 #endif
