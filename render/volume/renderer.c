@@ -322,6 +322,47 @@ static inline double box_exit_distance(const box_exit *b, const double x[3])
   return best > 0.0 ? best : 0.0;
 }
 
+/* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied 8^3
+ * bricks, by a walk through the brick lattice (Amanatides & Woo); *first > *last when it crosses
+ * none. Bricks are assigned as sl__sample_fields assigns a point (its lattice cell, clamped into
+ * the grid, divided by 8), so every sample outside the span reads zero: slices there are
+ * skipped without changing the image. */
+static void occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
+                          double *first, double *last)
+{
+  const sl_grid_view *g = &r->beta_view;
+  int b[3], b_last[3], step[3];
+  double t_next[3], t_delta[3];
+  *first = INFINITY, *last = -INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    const double u = (o[a] + t0 * d[a] - g->origin[a]) * g->inv_spacing[a];
+    const double du = d[a] * g->inv_spacing[a];
+    b_last[a] = g->n[a] > 1 ? (g->n[a] - 2) / 8 : 0;
+    const double cell = u < 0.0 ? 0.0 : floor(u);
+    b[a] = (int)fmin(cell / 8.0, (double)b_last[a]);
+    if (b[a] < 0) b[a] = 0;
+    step[a] = du > 0.0 ? 1 : du < 0.0 ? -1 : 0;
+    t_next[a] = INFINITY, t_delta[a] = INFINITY;
+    if (step[a] > 0 && b[a] < b_last[a]) t_next[a] = t0 + (8.0 * (b[a] + 1) - u) / du, t_delta[a] = 8.0 / du;
+    if (step[a] < 0 && b[a] > 0) t_next[a] = t0 + (8.0 * b[a] - u) / du, t_delta[a] = -8.0 / du;
+  }
+  double t = t0;
+  for (;;) {
+    int a = 0;
+    if (t_next[1] < t_next[a]) a = 1;
+    if (t_next[2] < t_next[a]) a = 2;
+    const double t_exit = t_next[a] < t1 ? t_next[a] : t1;
+    if (r->occupied[((size_t)b[2] * r->bricks[1] + b[1]) * r->bricks[0] + b[0]]) {
+      if (*first > t) *first = t;
+      *last = t_exit;
+    }
+    if (!(t_next[a] < t1)) break;
+    t = t_next[a];
+    b[a] += step[a];
+    t_next[a] = (step[a] > 0 ? b[a] < b_last[a] : b[a] > 0) ? t_next[a] + t_delta[a] : INFINITY;
+  }
+}
+
 /* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1]. */
 static int clip_segment(double c, double half, double t0, double t1, double *mid, double *len)
 {
@@ -511,9 +552,13 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       L.k_lo[t] = 1, L.k_hi[t] = 0;
       if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
         L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
-        const double s0 = L.h_origin[t] + u0 * hp, s1 = L.h_origin[t] + u1 * hp;
-        L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
-        L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
+        double first, last;
+        occupied_span(r, origin, prop, u0, u1, &first, &last);
+        if (first <= last) {
+          const double s0 = L.h_origin[t] + first * hp, s1 = L.h_origin[t] + last * hp;
+          L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
+          L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
+        }
       }
     }
 #pragma omp for schedule(static)
@@ -546,7 +591,10 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
       if (t1 <= t0) continue; /* an opaque surface in front of the volume */
       rq[3] = t0, rq[4] = t1;
-      const double s0 = h_o + t0 * rq[5], s1 = h_o + t1 * rq[5];
+      double first, last;
+      occupied_span(r, o, d, t0, t1, &first, &last);
+      if (first > last) continue; /* the ray crosses only empty bricks */
+      const double s0 = h_o + first * rq[5], s1 = h_o + last * rq[5];
       pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;
       pk[2 * q + 1] = (int)floor((fmax(s0, s1) - smin) / ds) + 1;
     }
@@ -651,7 +699,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
         double mid, len;
         if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len)) continue;
-        const int i = (int)(t % L.w), j = (int)(t / L.w);
+        const int i = tx, j = ty;
         const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
                              ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
