@@ -177,30 +177,37 @@ static double empty_brick_exit(const sl_renderer *r, const double x[3], const do
   return best > 0.0 ? best : 0.0;
 }
 
-int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,
-                                 sl_error *err)
-{
-  const sl_scene *sc = &r->scene;
-  if (!r->light_volume && sl_renderer_build_light_volume(r, err)) return err->code;
+/* What one frame of the march needs. */
+typedef struct march_frame {
+  sl_renderer *r;
+  const sl_camera *cam;
+  sl_image *img;
+  const sl_sky_view *view;
+  const sun_table *suntab;
+  const sl_phase_table *grid_table;
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
-    return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
-  sl_sky_view view = {0};
-  if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;
-  sun_table *suntab = malloc(sizeof *suntab);
-  if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
-  sl__sun_table_init(suntab, sc, &view, r->clo, r->chi);
+  double tan_half, aspect, h_center, f_o;
+  long samples;
+} march_frame;
+
+/* One thread's share of the march (the pixel loop inside binds to the caller's parallel region),
+ * inlined into march_run with constant field and wavelength counts as the slicer's passes are
+ * (renderer.c, slicer_run). */
+static inline __attribute__((always_inline)) void march_pixels(march_frame *f, const int nf, const int nwl)
+{
+  sl_renderer *r = f->r;
+  const sl_scene *sc = &r->scene;
   const sl_light_model *m = &r->model;
-  const int nwl = m->nwl, nf = m->nf;
-  const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
-  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
-  const double aspect = (double)img->width / img->height;
+  const sl_camera *cam = f->cam;
+  sl_image *img = f->img;
+  const sun_table *suntab = f->suntab;
+  const sl_phase_table *grid_table = f->grid_table;
+  const double *fwd = f->fwd, *right = f->right, *up = f->up;
+  const double tan_half = f->tan_half, aspect = f->aspect, h_center = f->h_center, f_o = f->f_o;
   const size_t np = (size_t)img->width * img->height;
   const double *o = cam->position, *sun = sc->sun_direction;
-  const double h_center = sl__dot3(fwd, r->content_center), f_o = sl__dot3(fwd, o);
   long samples = 0;
-  const double t_begin = omp_get_wtime();
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : samples)
+#pragma omp for schedule(dynamic, 64) nowait
   for (size_t q = 0; q < np; ++q) {
     double d[3];
     sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
@@ -257,7 +264,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
         const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
         const double xb[3] = {o[0] + tb * d[0], o[1] + tb * d[1], o[2] + tb * d[2]};
         float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields(r, x, beta_j);
+        sl__sample_fields_n(r, nf, x, beta_j);
         double beta = 0.0;
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
         samples++;
@@ -267,7 +274,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
         }
         light_volume_sample(r, xb, l1);
         double phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS], moments[2];
-        sl_eye_phase(m, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
+        sl_eye_phase_at(m, nf, nwl, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
         sl__sun_at(suntab, x, sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
          * point): the slicer's closed-form gather with no extra in-segment attenuation. */
@@ -285,8 +292,53 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
     }
     double t_mid = fabs(sl__dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl__dot3(fwd, d) : 0.5 * (t0 + t1);
     t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
-    sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, d, t_mid, a, img, q);
+    sl__resolve_pixel(r, sc->atmosphere ? f->view : NULL, d, t_mid, a, img, q);
   }
+#pragma omp atomic
+  f->samples += samples;
+}
+
+static void march_run(march_frame *f)
+{
+  const int nf = f->r->model.nf, nwl = f->r->model.nwl;
+  f->samples = 0;
+#define SL_MARCH_CASE(NF, NWL) \
+  if (nf == NF && nwl == NWL) { \
+    _Pragma("omp parallel") march_pixels(f, NF, NWL); \
+    return; \
+  }
+  SL_MARCH_CASE(1, 3) SL_MARCH_CASE(2, 3) SL_MARCH_CASE(3, 3) SL_MARCH_CASE(4, 3)
+  SL_MARCH_CASE(1, 16) SL_MARCH_CASE(2, 16) SL_MARCH_CASE(3, 16) SL_MARCH_CASE(4, 16)
+#undef SL_MARCH_CASE
+#pragma omp parallel
+  march_pixels(f, nf, nwl);
+}
+
+int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,
+                                 sl_error *err)
+{
+  const sl_scene *sc = &r->scene;
+  if (!r->light_volume && sl_renderer_build_light_volume(r, err)) return err->code;
+  double fwd[3], right[3], up[3];
+  if (sl__camera_basis(cam, fwd, right, up))
+    return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
+  sl_sky_view view = {0};
+  if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;
+  sun_table *suntab = malloc(sizeof *suntab);
+  if (!suntab) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
+  sl__sun_table_init(suntab, sc, &view, r->clo, r->chi);
+  const sl_light_model *m = &r->model;
+  const sl_phase_table *grid_table = m->nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
+  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
+  const double aspect = (double)img->width / img->height;
+  const double *o = cam->position;
+  const double h_center = sl__dot3(fwd, r->content_center), f_o = sl__dot3(fwd, o);
+  const double t_begin = omp_get_wtime();
+  march_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .grid_table = grid_table,
+                   .tan_half = tan_half, .aspect = aspect, .h_center = h_center, .f_o = f_o};
+  for (int a = 0; a < 3; ++a) f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a];
+  march_run(&f);
+  const long samples = f.samples;
   if (stats) {
     memset(stats, 0, sizeof *stats);
     stats->eye_seconds = omp_get_wtime() - t_begin;

@@ -198,7 +198,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
    * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
   const size_t count = sl_volume_count(scene->volume);
   const int nf = r->model.nf;
-  r->fields = malloc((nf > 0 ? nf : 1) * count * sizeof(float));
+  r->fields = calloc((nf > 0 ? nf : 1) * count + 4, sizeof(float)); /* + 4: sl__sample_fields_n's last load */
   if (!r->fields) {
     sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
     sl_renderer_destroy(r);

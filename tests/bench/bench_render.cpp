@@ -183,8 +183,9 @@ int main(int argc, char **argv)
     sc.termination_transparency = 1e-6;
     sc.light_volume = c.light_volume;
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
-    const Timing t = time_frames(sc, c.size, repeat, c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral ? &keep : nullptr);
-    if (c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral) frame_512_ms = 1e3 * t.frame;
+    const bool slicer_512 = c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume;
+    const Timing t = time_frames(sc, c.size, repeat, slicer_512 ? &keep : nullptr);
+    if (c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume) frame_512_ms = 1e3 * t.frame;
     char image[32], buffer[32];
     std::snprintf(image, sizeof image, "%dx%d", c.size, c.size);
     std::snprintf(buffer, sizeof buffer, "%dx%d", t.lw, t.lh);
