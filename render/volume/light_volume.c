@@ -300,18 +300,8 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
 
 static void march_run(march_frame *f)
 {
-  const int nf = f->r->model.nf, nwl = f->r->model.nwl;
   f->samples = 0;
-#define SL_MARCH_CASE(NF, NWL) \
-  if (nf == NF && nwl == NWL) { \
-    _Pragma("omp parallel") march_pixels(f, NF, NWL); \
-    return; \
-  }
-  SL_MARCH_CASE(1, 3) SL_MARCH_CASE(2, 3) SL_MARCH_CASE(3, 3) SL_MARCH_CASE(4, 3)
-  SL_MARCH_CASE(1, 16) SL_MARCH_CASE(2, 16) SL_MARCH_CASE(3, 16) SL_MARCH_CASE(4, 16)
-#undef SL_MARCH_CASE
-#pragma omp parallel
-  march_pixels(f, nf, nwl);
+  SL_RUN_SPECIALISED(march_pixels, f, f->r->model.nf, f->r->model.nwl);
 }
 
 int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,

@@ -507,11 +507,9 @@ typedef struct slicer_frame {
 
 /* One thread's share of a frame's passes (called by every thread of a parallel region; the
  * work-sharing loops inside bind to it): light-buffer and ray set-up, then per slice the eye pass
- * and the light pass, then the resolve. Always inlined into slicer_run's parallel regions, each
- * with constant field and wavelength counts, so that the per-sample loops over fields and
- * wavelengths unroll. The parallel region has to be opened there, around the inlined call:
- * OpenMP outlines a region before inlining, so counts inside a region opened here would reach
- * its body as run-time values. */
+ * and the light pass, then the resolve. Always inlined into the parallel regions of
+ * SL_RUN_SPECIALISED, each with constant field and wavelength counts, so that the per-sample
+ * loops over fields and wavelengths unroll. */
 static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f, const int nf, const int nwl)
 {
   sl_renderer *r = f->r;
@@ -739,23 +737,11 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   f->light_samples += light_samples;
 }
 
-/* The field and wavelength counts the passes are compiled for: one to four fields at three
- * wavelengths (RGB) and at sixteen (spectral); any other count runs the general copy. */
 static void slicer_run(slicer_frame *f)
 {
-  const int nf = f->r->model.nf, nwl = f->r->model.nwl;
   f->eye_samples = f->light_samples = 0;
   f->eye_seconds = f->light_seconds = 0.0;
-#define SL_SLICER_CASE(NF, NWL) \
-  if (nf == NF && nwl == NWL) { \
-    _Pragma("omp parallel") slicer_passes(f, NF, NWL); \
-    return; \
-  }
-  SL_SLICER_CASE(1, 3) SL_SLICER_CASE(2, 3) SL_SLICER_CASE(3, 3) SL_SLICER_CASE(4, 3)
-  SL_SLICER_CASE(1, 16) SL_SLICER_CASE(2, 16) SL_SLICER_CASE(3, 16) SL_SLICER_CASE(4, 16)
-#undef SL_SLICER_CASE
-#pragma omp parallel
-  slicer_passes(f, nf, nwl);
+  SL_RUN_SPECIALISED(slicer_passes, f, f->r->model.nf, f->r->model.nwl);
 }
 
 int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats, sl_error *err)

@@ -74,6 +74,26 @@ static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3])
   return r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
 }
 
+/* Runs BODY(f, nf, nwl) inside one OpenMP parallel region, with the model's field count nf and
+ * wavelength count nwl as constants for the pairs the passes are compiled for (one to four
+ * fields at three wavelengths and at sixteen), and as run-time values otherwise. The region is
+ * opened here, around the always-inlined body: GCC outlines a region before it inlines, so a
+ * region opened inside the body would see the counts as run-time values. */
+#define SL_RUN_SPECIALISED(BODY, f, nf, nwl) \
+  do { \
+    const int sl_nf_ = (nf), sl_nwl_ = (nwl); \
+    SL_SPECIALISE_CASE(BODY, f, 1, 3) SL_SPECIALISE_CASE(BODY, f, 2, 3) \
+    SL_SPECIALISE_CASE(BODY, f, 3, 3) SL_SPECIALISE_CASE(BODY, f, 4, 3) \
+    SL_SPECIALISE_CASE(BODY, f, 1, 16) SL_SPECIALISE_CASE(BODY, f, 2, 16) \
+    SL_SPECIALISE_CASE(BODY, f, 3, 16) SL_SPECIALISE_CASE(BODY, f, 4, 16) \
+    _Pragma("omp parallel") BODY(f, sl_nf_, sl_nwl_); \
+  } while (0)
+#define SL_SPECIALISE_CASE(BODY, f, NF, NWL) \
+  if (sl_nf_ == NF && sl_nwl_ == NWL) { \
+    _Pragma("omp parallel") BODY(f, NF, NWL); \
+    break; \
+  }
+
 /* Four floats as one value: the fields of a lattice sample (at most four, interleaved) are one
  * 16-byte load, and the seven lerps of a trilinear look-up run on all fields at once. */
 typedef float sl__v4f __attribute__((vector_size(16)));
