@@ -210,8 +210,11 @@ SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
  * light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u) on top of
  * the eye's exp(-beta u): result[0] = beta int_0^len exp(-beta rate u) du and
  * result[1] = (beta / len) int_0^len u exp(-beta rate u) du, the weights of a light value that is
- * constant along the segment and one that grows linearly from 0 to 1. rate may be <= 0. */
-SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, result, 2))
+ * constant along the segment and one that grows linearly from 0 to 1. rate may be <= 0. The
+ * caller gives e = exp(-beta rate len) (the CPU takes a sample's exponentials for every
+ * wavelength at once); the Taylor branch does not use it. */
+SL_INLINE void sl_segment_scatter_moments_exp(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL e,
+                                               SL_OUT_ARRAY(SL_REAL, result, 2))
 {
   SL_REAL x = beta * rate * len;
   if (x > -0.25 && x < 0.25) {
@@ -223,9 +226,14 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
              (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x * (1.0 / 5760.0)))))));
     return;
   }
-  SL_REAL e = sl_exp(-x);
   result[0] = beta * len * (1.0 - e) / x;
   result[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
+}
+
+/* sl_segment_scatter_moments_exp, taking the exponential itself. */
+SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, result, 2))
+{
+  sl_segment_scatter_moments_exp(beta, len, rate, sl_exp(-beta * rate * len), result);
 }
 
 #ifndef SL_GLSL
