@@ -62,34 +62,32 @@ static int plane_lookup(const sl_renderer *r, const float *state, int axis, int 
   return 1;
 }
 
-int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
-{
-  const sl_volume *v = &r->shape;
-  const int nwl = r->model.nwl, stride = nwl + 1;
-  const size_t count = sl_volume_count(v);
-  if ((double)count * stride * sizeof(float) > 2.0e9)
-    return sl_fail(err, SL_ERR_NOMEM, "light volume: %dx%dx%d samples x %d values exceed 2 GB", v->nx, v->ny, v->nz,
-                   stride);
-  float *state = malloc(count * stride * sizeof(float));
-  if (!state) return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
-  const double *sun = r->scene.sun_direction;
-  const double p[3] = {-sun[0], -sun[1], -sun[2]};
-  int axis = 0;
-  for (int a = 1; a < 3; ++a)
-    if (fabs(p[a]) > fabs(p[axis])) axis = a;
-  const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-  const int n[3] = {v->nx, v->ny, v->nz};
-  const int step = p[axis] > 0.0 ? 1 : -1;
-  const int first = step > 0 ? 0 : n[axis] - 1;
-  /* Path from one plane to the next along the sunlight, and the in-plane shift it brings. */
-  const double path = v->spacing[axis] / fabs(p[axis]);
-  const double shift1 = -path * p[a1] / v->spacing[a1], shift2 = -path * p[a2] / v->spacing[a2];
+/* What the sweep needs: the planes across the sun's dominant axis and the path between them. */
+typedef struct sweep_frame {
+  const sl_renderer *r;
+  float *state;
+  double p[3];           /* the sunlight's propagation */
+  int axis, a1, a2, step, first;
+  double path;           /* from one plane to the next along the sunlight */
+  double shift1, shift2; /* the in-plane shift that path brings, in samples */
   double box_lo[3], box_hi[3];
-  sl_volume_bounds(v, box_lo, box_hi);
-  const double t0 = omp_get_wtime();
+} sweep_frame;
+
+/* One thread's share of the sweep, plane after plane (each plane's loop binds to the caller's
+ * parallel region and ends in its barrier); inlined with constant field and wavelength counts
+ * (SL_RUN_SPECIALISED). */
+static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, const int nf, const int nwl)
+{
+  const sl_renderer *r = f->r;
+  const sl_volume *v = &r->shape;
+  const sl_light_model *m = &r->model;
+  const int stride = nwl + 1, axis = f->axis, a1 = f->a1, a2 = f->a2, step = f->step;
+  const int n[3] = {v->nx, v->ny, v->nz};
+  const double *p = f->p, *sun = r->scene.sun_direction;
+  float *state = f->state;
   for (int kk = 0; kk < n[axis]; ++kk) {
-    const int k = first + kk * step;
-#pragma omp parallel for schedule(static)
+    const int k = f->first + kk * step;
+#pragma omp for schedule(static)
     for (int jj = 0; jj < n[a2]; ++jj)
       for (int ii = 0; ii < n[a1]; ++ii) {
         int idx[3];
@@ -98,30 +96,63 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
         double prev[SL_MAX_WAVELENGTHS + 1];
         double x[3];
         for (int a = 0; a < 3; ++a) x[a] = v->origin[a] + idx[a] * v->spacing[a];
-        double len = path;
+        double len = f->path;
         /* The state where this sample's sun ray crossed the previous plane, or fresh sunlight
          * entering the box (through the first plane or a side face) over a shorter path. */
-        if (kk == 0 || !plane_lookup(r, state, axis, k - step, ii + shift1, jj + shift2, prev)) {
+        if (kk == 0 || !plane_lookup(r, state, axis, k - step, ii + f->shift1, jj + f->shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
-          len = fmin(path, sl__distance_to_box_toward(box_lo, box_hi, x, sun));
+          len = fmin(f->path, sl__distance_to_box_toward(f->box_lo, f->box_hi, x, sun));
           if (kk == 0) len = 0.5 * v->spacing[axis] / fabs(p[axis]);
         }
-        float I[SL_MAX_WAVELENGTHS], nn = (float)prev[nwl];
-        for (int c = 0; c < nwl; ++c) I[c] = (float)exp(prev[c]);
         /* Fields at the middle of the path since the previous plane. */
         const double mid[3] = {x[0] - 0.5 * len * p[0], x[1] - 0.5 * len * p[1], x[2] - 0.5 * len * p[2]};
         float beta[SL_MAX_FIELDS];
-        sl__sample_fields(r, mid, beta);
+        sl__sample_fields_n(r, nf, mid, beta);
         double total = 0.0;
-        for (int j = 0; j < r->model.nf; ++j) total += beta[j];
-        if (total > 0.0 && len > 0.0) sl_light_step(&r->model, beta, len, I, &nn);
+        for (int j = 0; j < nf; ++j) total += beta[j];
+        if (!(total > 0.0 && len > 0.0)) {
+          /* Nothing on the path: the light arrives as it left the previous plane. */
+          for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)prev[c], LOG_FLOOR);
+          out[nwl] = (float)prev[nwl];
+          continue;
+        }
+        float I[SL_MAX_WAVELENGTHS], nn = (float)prev[nwl];
+        for (int c = 0; c < nwl; ++c) I[c] = (float)exp(prev[c]);
+        sl_light_step_at(m, nf, nwl, beta, len, I, &nn);
         for (int c = 0; c < nwl; ++c) out[c] = I[c] > 0.0f ? fmaxf(logf(I[c]), LOG_FLOOR) : LOG_FLOOR;
         out[nwl] = nn;
       }
   }
+}
+
+int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
+{
+  const sl_volume *v = &r->shape;
+  const int nwl = r->model.nwl, stride = nwl + 1;
+  const size_t count = sl_volume_count(v);
+  if ((double)count * stride * sizeof(float) > 2.0e9)
+    return sl_fail(err, SL_ERR_NOMEM, "light volume: %dx%dx%d samples x %d values exceed 2 GB", v->nx, v->ny, v->nz,
+                   stride);
+  sweep_frame f = {.r = r};
+  f.state = malloc(count * stride * sizeof(float));
+  if (!f.state) return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
+  const double *sun = r->scene.sun_direction;
+  for (int a = 0; a < 3; ++a) f.p[a] = -sun[a];
+  f.axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (fabs(f.p[a]) > fabs(f.p[f.axis])) f.axis = a;
+  f.a1 = (f.axis + 1) % 3, f.a2 = (f.axis + 2) % 3;
+  const int n[3] = {v->nx, v->ny, v->nz};
+  f.step = f.p[f.axis] > 0.0 ? 1 : -1;
+  f.first = f.step > 0 ? 0 : n[f.axis] - 1;
+  f.path = v->spacing[f.axis] / fabs(f.p[f.axis]);
+  f.shift1 = -f.path * f.p[f.a1] / v->spacing[f.a1], f.shift2 = -f.path * f.p[f.a2] / v->spacing[f.a2];
+  sl_volume_bounds(v, f.box_lo, f.box_hi);
+  const double t0 = omp_get_wtime();
+  SL_RUN_SPECIALISED(sweep_planes, &f, r->model.nf, nwl);
   free(r->light_volume);
-  r->light_volume = state;
+  r->light_volume = f.state;
   r->light_volume_seconds = omp_get_wtime() - t0;
   return SL_OK;
 }
