@@ -1,0 +1,115 @@
+/* Empty-space skipping changes nothing: a sparse volume (isolated voxels and small blobs, some on
+ * the 8^3 bricks' faces and in the grid's last cells, whose bricks are clamped) is rendered as it
+ * is, where the slicer walks each ray through the brick lattice and the light-volume march jumps
+ * empty bricks, and again with a background so faint (optical depth below 1e-8 across the box)
+ * that it cannot show but marks every brick occupied, so nothing is skipped. The two images must
+ * agree to float rounding; a skipped occupied brick would cost a whole voxel's light. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "sl_renderer.h"
+#include "sl_testing.h"
+
+enum { NX = 37, NY = 29, NZ = 21 };
+
+static void fill(sl_volume *v, int background)
+{
+  for (int p = 0; p < 2; ++p) {
+    float *eta = v->eta[p == 0 ? SL_CLOUD : SL_ICE];
+    const size_t n = sl_volume_count(v);
+    /* Table 2's cross-sections: 1e-3 cloud droplets or 1e-6 ice crystals per cubic metre give
+     * an extinction near 1e-12 per metre, a few 1e-9 across the 4 km box. */
+    for (size_t i = 0; i < n; ++i) eta[i] = background ? (p == 0 ? 1e-3f : 1e-6f) : 0.0f;
+  }
+  unsigned s = 12345u;
+  float *cloud = v->eta[SL_CLOUD], *ice = v->eta[SL_ICE];
+  /* The two opposite corners: the content box is the whole box in both renders. */
+  cloud[sl_volume_index(v, 0, 0, 0)] = 2e7f;
+  cloud[sl_volume_index(v, NX - 1, NY - 1, NZ - 1)] = 2e7f;
+  /* Brick faces (7|8, 15|16, 23|24) and the last cells. */
+  const int edges[][3] = {{7, 8, 7}, {8, 7, 8}, {15, 16, 15}, {16, 15, 16}, {NX - 1, 3, 5}, {NX - 2, NY - 1, 9},
+                          {4, NY - 2, NZ - 1}, {23, 24, 20}, {24, 23, 0}, {31, 0, 12}};
+  for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e)
+    cloud[sl_volume_index(v, edges[e][0], edges[e][1], edges[e][2])] = 3e7f;
+  for (int b = 0; b < 12; ++b) {
+    s = s * 1664525u + 1013904223u;
+    const int i0 = (int)(s % (NX - 3)), j0 = (int)((s >> 8) % (NY - 3)), k0 = (int)((s >> 16) % (NZ - 3));
+    for (int k = k0; k < k0 + 2; ++k)
+      for (int j = j0; j < j0 + 3; ++j)
+        for (int i = i0; i < i0 + 2; ++i) (b % 2 ? ice : cloud)[sl_volume_index(v, i, j, k)] = b % 2 ? 4e4f : 1e7f;
+  }
+}
+
+/* Relative RMSE of b against a over the RGB channels, and the largest difference relative to
+ * a's brightest channel. */
+static void difference(const sl_image *a, const sl_image *b, double *rel_rmse, double *rel_max)
+{
+  const size_t n = (size_t)a->width * a->height;
+  double num = 0.0, den = 0.0, dmax = 0.0, vmax = 0.0;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double x = a->rgba[4 * i + c], y = b->rgba[4 * i + c];
+      num += (x - y) * (x - y), den += x * x;
+      dmax = fmax(dmax, fabs(x - y)), vmax = fmax(vmax, fabs(x));
+    }
+  *rel_rmse = den > 0.0 ? sqrt(num / den) : INFINITY;
+  *rel_max = vmax > 0.0 ? dmax / vmax : INFINITY;
+}
+
+int main(void)
+{
+  sl_error err = {0};
+  sl_volume sparse, faint;
+  const double spacing[3] = {100.0, 120.0, 50.0};
+  const double origin[3] = {-0.5 * (NX - 1) * spacing[0], -0.5 * (NY - 1) * spacing[1], 200.0};
+  sl_volume *vols[2] = {&sparse, &faint};
+  for (int w = 0; w < 2; ++w) {
+    if (!CHECK(sl_volume_init(vols[w], NX, NY, NZ, origin, spacing, &err) == SL_OK)) return sl_test_finish("test_empty_space");
+    CHECK(sl_volume_add_field(vols[w], SL_CLOUD, &err) == SL_OK);
+    CHECK(sl_volume_add_field(vols[w], SL_ICE, &err) == SL_OK);
+    fill(vols[w], w);
+  }
+  /* Sun: oblique, and straight down (texel rays along one axis only). View: from several sides,
+   * toward and away from the sun, and from inside the box. */
+  const double suns[][2] = {{240.0, 35.0}, {0.0, 90.0}};
+  const double views[][2] = {{200.0, 12.0}, {60.0, -20.0}, {240.0, 35.0}, {0.0, 89.0}};
+  for (int mode = 0; mode < 2; ++mode)
+    for (size_t si = 0; si < 2; ++si)
+      for (size_t vi = 0; vi < sizeof views / sizeof views[0] + 1; ++vi) {
+        sl_image img[2];
+        for (int w = 0; w < 2; ++w) {
+          sl_scene sc = {.volume = vols[w], .slices = 64, .lighting = SL_LIGHTING_LOW_ALBEDO, .light_volume = mode};
+          sl_sun_vector(suns[si][0], suns[si][1], sc.sun_direction);
+          for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
+          sl_renderer *r = sl_renderer_create(&sc, &err);
+          if (!CHECK(r != NULL)) return sl_test_finish("test_empty_space");
+          double lo[3], hi[3];
+          sl_volume_bounds(vols[w], lo, hi);
+          sl_camera cam;
+          if (vi < sizeof views / sizeof views[0]) {
+            sl_camera_frame(lo, hi, views[vi][0], views[vi][1], 40.0, 64, 48, &cam);
+          } else {
+            sl_camera_frame(lo, hi, 130.0, 10.0, 70.0, 64, 48, &cam);
+            for (int a = 0; a < 3; ++a) cam.position[a] = lo[a] + 0.3 * (hi[a] - lo[a]); /* inside */
+          }
+          sl_image_alloc(&img[w], cam.width, cam.height, &err);
+          CHECK(sl_renderer_render(r, &cam, &img[w], NULL, &err) == SL_OK);
+          sl_renderer_destroy(r);
+        }
+        double rel_rmse, rel_max;
+        difference(&img[1], &img[0], &rel_rmse, &rel_max);
+        char what[160];
+        snprintf(what, sizeof what, "%s, sun %zu, view %zu: skipping leaves the image as it is (rmse %.2g, max %.2g)",
+                 mode ? "light volume" : "slicer", si, vi, rel_rmse, rel_max);
+        CHECK_MSG(rel_rmse < 1e-5 && rel_max < 1e-5, what);
+        double sum = 0.0;
+        for (size_t i = 0; i < (size_t)img[0].width * img[0].height; ++i) sum += img[0].rgba[4 * i];
+        snprintf(what, sizeof what, "%s, sun %zu, view %zu: the voxels are seen", mode ? "light volume" : "slicer", si, vi);
+        CHECK_MSG(sum > 0.0, what);
+        sl_image_free(&img[0]);
+        sl_image_free(&img[1]);
+      }
+  sl_volume_free(&sparse);
+  sl_volume_free(&faint);
+  return sl_test_finish("test_empty_space");
+}
