@@ -40,6 +40,7 @@
  * (renderer.c), and the counts reach these loops as constants only through inlining. */
 #define SL_INLINE static inline __attribute__((always_inline))
 #define SL_INT(x) ((int)(x))
+#define SL_MIN_INT(a, b) ((a) < (b) ? (a) : (b))
 #define SL_TO_REAL(x) ((SL_REAL)(x))
 #define SL_IN_ARRAY(T, name, n) const T name[n]
 #define SL_OUT_ARRAY(T, name, n) T name[n]
@@ -71,6 +72,7 @@
 #define sl_pow pow
 #define SL_INLINE
 #define SL_INT(x) int(x)
+#define SL_MIN_INT(a, b) min(a, b)
 #define SL_TO_REAL(x) float(x)
 #define SL_IN_ARRAY(T, name, n) in T name[n]
 #define SL_OUT_ARRAY(T, name, n) out T name[n]
@@ -96,15 +98,12 @@ SL_INLINE SL_REAL sl_expected_scatter_count(SL_MODEL_PARAM SL_IN_ARRAY(float, be
 }
 
 /* sum_{i=1..x} ln(albedo F_i) of field j at wavelength c, for a real number of events x >= 0:
- * linear between integers; past the table's last order N each event adds ln(albedo F_N). */
+ * linear between integers; past the table's last order N each event adds ln(albedo F_N), which
+ * is the line through orders N - 1 and N carried on, so one interpolation serves both (no
+ * branch: the per-sample loops over fields and wavelengths stay straight). */
 SL_INLINE SL_REAL sl_log_product_at(SL_MODEL_PARAM int j, int c, SL_REAL x)
 {
-  int N = SL_MAX_ORDER(j, c);
-  if (x >= SL_TO_REAL(N)) {
-    SL_REAL last = SL_LOG_PRODUCT(j, c, N);
-    return last + (x - SL_TO_REAL(N)) * (last - SL_LOG_PRODUCT(j, c, N - 1));
-  }
-  int k = SL_INT(x);
+  int k = SL_MIN_INT(SL_INT(x), SL_MAX_ORDER(j, c) - 1);
   SL_REAL lo = SL_LOG_PRODUCT(j, c, k);
   return lo + (x - SL_TO_REAL(k)) * (SL_LOG_PRODUCT(j, c, k + 1) - lo);
 }
@@ -128,12 +127,15 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
   SL_REAL transparency = sl_exp(-ext * len);
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
-  SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0; /* each field's share is albedo_j beta_j / rate */
+  SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0;
+  if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
+    for (int c = 0; c < SL_NWL; ++c) fraction[c] = transparency;
+    return;
+  }
+  /* Each field's share of the events, albedo_j beta_j / rate (the same at every wavelength). */
+  SL_REAL share[SL_MAX_FIELDS];
+  for (int j = 0; j < SL_NF; ++j) share[j] = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
   for (int c = 0; c < SL_NWL; ++c) {
-    if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
-      fraction[c] = transparency;
-      continue;
-    }
     SL_REAL kept;
     if (SL_MODE == SL_MODE_EQ25) {
       /* Riley et al. 2004, eq. 25: the worst-case order's forward fraction to the power of the
@@ -141,20 +143,17 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
       int order = SL_INT(sl_floor(n + 1.0 + events));
       SL_REAL f = 0.0, a = 0.0;
       for (int j = 0; j < SL_NF; ++j) {
-        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
         int N = SL_MAX_ORDER(j, c);
-        f += share * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
-        a += share * SL_ALBEDO(j, c);
+        f += share[j] * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
+        a += share[j] * SL_ALBEDO(j, c);
       }
       kept = sl_pow(a * f, events);
     } else {
       /* Eq. 24 with a mix: each field's product weighted geometrically by its share of the
        * events (exact for one field; a mix along a path has no exact per-field split). */
       SL_REAL log_kept = 0.0;
-      for (int j = 0; j < SL_NF; ++j) {
-        SL_REAL share = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
-        if (share > 0.0) log_kept += share * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
-      }
+      for (int j = 0; j < SL_NF; ++j)
+        if (share[j] > 0.0) log_kept += share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
       kept = sl_exp(log_kept);
     }
     /* Eq. 24: what passes unscattered, plus the scattered part that stays in the forward
