@@ -17,6 +17,7 @@
 
 #include "renderer_internal.h"
 #include "sl_sample_physics.h"
+#include "vector_math.h"
 
 static size_t lv_index(const sl_volume *v, int i, int j, int k, int stride)
 {
@@ -157,31 +158,42 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   return SL_OK;
 }
 
-/* Trilinear look-up of the light volume at x (clamped inside the grid). */
-static void light_volume_sample(const sl_renderer *r, const double x[3], double *out)
+/* Trilinear look-up of the light volume at x (clamped inside the grid, the fields' lattice
+ * rule): ln I per wavelength, returned as I, and n. nwl is r->model.nwl, given apart as in
+ * sl__sample_fields_n; at three wavelengths a sample's state is one 4-float vector. */
+static inline __attribute__((always_inline)) void light_volume_sample(const sl_renderer *r, const int nwl,
+                                                                      const double x[3], double *out)
 {
   const sl_volume *v = &r->shape;
-  const int stride = r->model.nwl + 1;
-  const int n[3] = {v->nx, v->ny, v->nz};
+  const int stride = nwl + 1;
   int i0[3];
   double f[3];
-  for (int a = 0; a < 3; ++a) {
-    double u = (x[a] - v->origin[a]) / v->spacing[a];
-    u = u < 0.0 ? 0.0 : u > n[a] - 1 ? n[a] - 1 : u;
-    int i = (int)u;
-    if (i > n[a] - 2) i = n[a] > 1 ? n[a] - 2 : 0;
-    i0[a] = i;
-    f[a] = n[a] > 1 ? u - i : 0.0;
+  sl__lattice_cell(&r->beta_view, x, i0, f);
+  const size_t sx = v->nx > 1 ? (size_t)stride : 0;
+  const size_t sy = v->ny > 1 ? (size_t)v->nx * stride : 0;
+  const size_t sz = v->nz > 1 ? (size_t)v->nx * v->ny * stride : 0;
+  const float *p = r->light_volume + lv_index(v, i0[0], i0[1], i0[2], stride);
+  if (stride == 4) {
+    const float fx = (float)f[0], fy = (float)f[1], fz = (float)f[2];
+    const sl__v4f c00 = sl__load_v4f(p) + fx * (sl__load_v4f(p + sx) - sl__load_v4f(p));
+    const sl__v4f c10 = sl__load_v4f(p + sy) + fx * (sl__load_v4f(p + sy + sx) - sl__load_v4f(p + sy));
+    const sl__v4f c01 = sl__load_v4f(p + sz) + fx * (sl__load_v4f(p + sz + sx) - sl__load_v4f(p + sz));
+    const sl__v4f c11 =
+        sl__load_v4f(p + sz + sy) + fx * (sl__load_v4f(p + sz + sy + sx) - sl__load_v4f(p + sz + sy));
+    const sl__v4f c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
+    const sl__v4f value = c0 + fz * (c1 - c0);
+    for (int s = 0; s < 4; ++s) out[s] = value[s];
+  } else {
+    for (int s = 0; s < stride; ++s) {
+      const double c00 = p[s] + f[0] * (p[sx + s] - p[s]), c10 = p[sy + s] + f[0] * (p[sy + sx + s] - p[sy + s]);
+      const double c01 = p[sz + s] + f[0] * (p[sz + sx + s] - p[sz + s]);
+      const double c11 = p[sz + sy + s] + f[0] * (p[sz + sy + sx + s] - p[sz + sy + s]);
+      const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
+      out[s] = c0 + f[2] * (c1 - c0);
+    }
   }
-  for (int s = 0; s < stride; ++s) out[s] = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const int di = (c & 1) && n[0] > 1, dj = (c & 2) && n[1] > 1, dk = (c & 4) && n[2] > 1;
-    const double w = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
-    if (w == 0.0) continue;
-    const float *p = r->light_volume + lv_index(v, i0[0] + di, i0[1] + dj, i0[2] + dk, stride);
-    for (int s = 0; s < stride; ++s) out[s] += w * p[s];
-  }
-  for (int c = 0; c < stride - 1; ++c) out[c] = exp(out[c]);
+#pragma omp simd
+  for (int c = 0; c < nwl; ++c) out[c] = exp(out[c]);
 }
 
 /* Distance along d from x to where the ray leaves x's 8^3 brick when that brick is empty (no
@@ -271,7 +283,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
       dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
       double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
       double xs[3] = {o[0] + t0 * d[0], o[1] + t0 * d[1], o[2] + t0 * d[2]};
-      light_volume_sample(r, xs, l0);
+      light_volume_sample(r, nwl, xs, l0);
       for (int s = 0; s < nsteps && a[nwl] >= sc->termination_transparency; ++s) {
         double ta = t0 + s * dt, tm = ta + 0.5 * dt;
         {
@@ -286,7 +298,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
             s = next > s ? next : s + 1;
             ta = t0 + s * dt, tm = ta + 0.5 * dt;
             const double xa[3] = {o[0] + ta * d[0], o[1] + ta * d[1], o[2] + ta * d[2]};
-            light_volume_sample(r, xa, l0);
+            light_volume_sample(r, nwl, xa, l0);
             --s; /* the loop's ++s comes back to this step through the check above */
             continue;
           }
@@ -300,24 +312,25 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
         samples++;
         if (!(beta > 0.0)) {
-          light_volume_sample(r, xb, l0);
+          light_volume_sample(r, nwl, xb, l0);
           continue;
         }
-        light_volume_sample(r, xb, l1);
+        light_volume_sample(r, nwl, xb, l1);
         double phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS], moments[2];
         sl_eye_phase_at(m, nf, nwl, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
         sl__sun_at(suntab, x, sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
          * point): the slicer's closed-form gather with no extra in-segment attenuation. */
-        sl_segment_scatter_moments(beta, dt, 1.0, moments);
-        const double w = a[nwl];
+        /* One exponential serves the step: opacity, transparency and the gather's moments. */
+        const double opacity = -expm1(-beta * dt);
+        sl_segment_scatter_moments_exp(beta, dt, 1.0, 1.0 - opacity, moments);
+        const double w = a[nwl], inv_beta = 1.0 / beta;
         for (int c = 0; c < nwl; ++c) {
           const double gathered = l0[c] * moments[0] + (l1[c] - l0[c]) * moments[1];
-          a[c] += (float)(w * gathered * phase[c] / beta * sunlight[c]);
+          a[c] += (float)(w * gathered * phase[c] * inv_beta * sunlight[c]);
         }
-        const double opacity = -expm1(-beta * dt);
         a[nwl + 1] += (float)(w * opacity * tm * sl__dot3(d, fwd));
-        a[nwl] *= (float)exp(-beta * dt);
+        a[nwl] *= (float)(1.0 - opacity);
         memcpy(l0, l1, sizeof l0);
       }
     }

@@ -692,7 +692,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         if (back_to_front) a[nwl + 1] = (float)(a[nwl + 1] * (1.0 - opacity) + opacity * depth);
         else a[nwl + 1] += (float)(w * opacity * depth);
-        a[nwl] *= (float)exp(-beta * len);
+        a[nwl] *= (float)(1.0 - opacity); /* exp(-beta len), from expm1's exact small end */
         if (!back_to_front && a[nwl] < sc->termination_transparency) pk[2 * q + 1] = k;
         }
       }
