@@ -1,111 +1,11 @@
-/* Per-sample atmospheric light, Riley et al. 2004 eqs. 1, 9-15. Plain-C subset meant to compile
- * as GLSL later (no pointers, scalars only). Derivations: docs/SKY.md. */
+/* Per-sample atmospheric light, Riley et al. 2004 eqs. 1, 9-15: the C side of
+ * sky_sample_shared.h, whose text the GPU pass compiles as GLSL. */
 #include "sl_sky_sample.h"
 
 #include <math.h>
 
-double sl_sky_exprel(double x)
-{
-  /* Below |x| = 0.05 the direct form loses up to 2 digits to cancellation in 1 - exp(-x); the
-   * Taylor series to x^7 has a truncation error below 0.05^8 / 9! = 1.1e-16 there. */
-  if (x > -0.05 && x < 0.05)
-    return 1.0 +
-           x * (-1.0 / 2.0 +
-                x * (1.0 / 6.0 +
-                     x * (-1.0 / 24.0 +
-                          x * (1.0 / 120.0 +
-                               x * (-1.0 / 720.0 + x * (1.0 / 5040.0 + x * (-1.0 / 40320.0)))))));
-  return (1.0 - exp(-x)) / x;
-}
-
-double sl_sky_rayleigh_phase(double cos_theta)
-{
-  /* Riley et al. 2004, eq. 1 */
-  return 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
-}
-
-double sl_sky_path_length_factor(double inv_scale_height, double dz, double distance)
-{
-  return distance * sl_sky_exprel(inv_scale_height * dz);
-}
-
-double sl_sky_optical_depth(double beta_sea_level, double inv_scale_height, double z0, double z1,
-                            double distance)
-{
-  /* Riley et al. 2004, eq. 11, written as beta(z0) * K * exprel(gamma * (z1 - z0)): the printed
-   * form divides by p_y = (z1 - z0) / K and is 0/0 for a horizontal segment. */
-  return beta_sea_level * exp(-inv_scale_height * z0) *
-         sl_sky_path_length_factor(inv_scale_height, z1 - z0, distance);
-}
-
-double sl_sky_sun_optical_depth(double beta_sea_level, double inv_scale_height, double z,
-                                double airmass)
-{
-  /* Riley et al. 2004, eq. 12: beta(z) / (gamma * l_y), with 1 / l_y generalised to an air mass
-   * so the round earth (Chapman function) uses the same formula. */
-  if (isinf(airmass)) return airmass;
-  return beta_sea_level * exp(-inv_scale_height * z) * airmass / inv_scale_height;
-}
-
-double sl_sky_ground_distance(double z_eye, double mu, double ground_radius)
-{
-  if (!(mu < 0.0)) return INFINITY;
-  const double h = z_eye > 0.0 ? z_eye : 0.0;
-  if (!(ground_radius > 0.0)) return h / -mu; /* the plane z = 0 */
-  /* |eye + t dir - centre| = R with the eye at R + h from the centre: t^2 + 2 r0 mu t + h (2R + h) = 0.
-   * The near root, written as h (2R + h) / (-r0 mu + sqrt(disc)) so that neither a steep ray
-   * (disc ~ r0^2 mu^2) nor a low eye cancels; no real root: the ray passes over the horizon. */
-  const double r0 = ground_radius + h;
-  const double c = h * (2.0 * ground_radius + h);
-  const double disc = r0 * r0 * mu * mu - c;
-  if (disc < 0.0) return INFINITY;
-  const double q = -r0 * mu + sqrt(disc);
-  return q > 0.0 ? c / q : 0.0;
-}
-
-double sl_sky_segment_length(double z_eye, double mu, double distance, double ground_radius)
-{
-  const double to_ground = sl_sky_ground_distance(z_eye, mu, ground_radius);
-  return distance < to_ground ? distance : to_ground;
-}
-
-double sl_sky_segment_length_factor(double inv_scale_height, double mu, double distance)
-{
-  if (isinf(distance)) return mu > 0.0 ? 1.0 / (inv_scale_height * mu) : distance;
-  return distance * sl_sky_exprel(mu == 0.0 ? 0.0 : inv_scale_height * mu * distance);
-}
-
-double sl_sky_inscatter_gathered(double beta_eye, double inv_scale_height, double mu, double length,
-                                 double far_density, double airmass)
-{
-  /* Riley et al. 2004, eqs. 14-15, corrected (docs/SKY.md): substituting u = exp(-gamma mu t)
-   * into eq. 14 gives exp(-beta_eye / (gamma mu)) * l / (l - mu) * (e^a - e^{a u_K}); the printed
-   * eq. 15 drops the first factor. We write the exact result as exp(-min(c, e)) * D *
-   * exprel(|e - c|), which has no division by mu or by (mu - l). */
-  if (!(beta_eye > 0.0) || !(length > 0.0) || isinf(airmass)) return 0.0;
-  double gamma = inv_scale_height;
-  double tau = beta_eye * length;
-  double sun_depth_eye = beta_eye * airmass / gamma;
-  double sun_depth_far = tau + beta_eye * far_density * airmass / gamma;
-  double slope = 1.0 - mu * airmass; /* (e - c) / tau */
-  double spread = tau * slope;
-  double attenuation = spread >= 0.0 ? exp(-sun_depth_eye) : exp(-sun_depth_far);
-  double gathered; /* D * exprel(|e - c|) = integral of exp(-|e - c| t / K) dt over the segment */
-  if (isinf(length))
-    gathered = 1.0 / (beta_eye * fabs(slope));
-  else
-    gathered = length * sl_sky_exprel(fabs(spread));
-  return beta_eye * attenuation * gathered;
-}
-
-double sl_sky_inscatter(double beta_sea_level, double inv_scale_height, double z_eye, double mu,
-                        double distance, double airmass, double cos_view_sun)
-{
-  double gamma = inv_scale_height;
-  double beta_eye = beta_sea_level * exp(-gamma * z_eye);
-  if (!(distance > 0.0)) return 0.0;
-  double length = sl_sky_segment_length_factor(gamma, mu, distance); /* D */
-  double far_density = exp(mu == 0.0 ? 0.0 : -gamma * mu * distance); /* beta_K / beta_eye */
-  return sl_sky_rayleigh_phase(cos_view_sun) *
-         sl_sky_inscatter_gathered(beta_eye, gamma, mu, length, far_density, airmass);
-}
+#define SL_SKY_REAL double
+#define SL_SKY_INFINITY INFINITY
+#define sl_sky_isinf(x) isinf(x)
+#define sl_sky_abs(x) fabs(x)
+#include "sky_sample_shared.h"

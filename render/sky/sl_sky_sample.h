@@ -1,8 +1,9 @@
 /* Per-sample atmospheric light: Riley et al. 2004, eqs. 1, 9-15, in a plain-C subset.
  *
  * Everything here takes and returns scalars (double), uses no pointers, no varargs, no library
- * calls beyond exp/sqrt/abs and isinf (INFINITY for a ray that meets no ground), so that a later issue can compile the same text as GLSL
- * (sky_sample.c holds the bodies). Units: metres, m^-1; heights z are above sea level; the
+ * calls beyond exp/sqrt/abs and isinf (INFINITY for a ray that meets no ground): the bodies,
+ * in sky_sample_shared.h, are one text that the C library compiles with double and the GPU
+ * pass's shaders embed as GLSL (tests/gpu/test_gpu_sky checks that the two agree). Units: metres, m^-1; heights z are above sea level; the
  * direction cosine mu is the z component (up) of the unit view direction, p_Omega_y in the
  * paper.
  *

@@ -6,27 +6,14 @@
 //    eye gather's Ams_{n+1} + xi term (eq. 26), and the segment moments, which are checked
 //    against renderer.c's own closed forms (an independent implementation with expm1).
 // Needs an X display (xvfb-run); particle tables come from the optics cache.
-#include <vtkNew.h>
-#include <vtkOpenGLFramebufferObject.h>
-#include <vtkOpenGLQuadHelper.h>
-#include <vtkOpenGLRenderWindow.h>
-#include <vtkOpenGLState.h>
-#include <vtkRenderWindow.h>
-#include <vtkShaderProgram.h>
-#include <vtkTextureObject.h>
-#include <vtk_glew.h>
-
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "gpu_render.h"
-#include "gpu_volume_pass.h"
+#include "case_shader.h"
 #include "sl_shaders.h"
-#include "vtk_png.h"
 extern "C" {
 #include "renderer_internal.h"
 }
@@ -108,21 +95,9 @@ int main(int argc, char **argv)
     return 2;
   }
   // 1. The embedded text is the header.
-  {
-    std::ifstream in(std::string(argv[1]) + "/render/volume/sl_sample_physics.h", std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    if (!in || ss.str() != sl_shader_sl_sample_physics) {
-      std::fprintf(stderr, "FAIL the shaders' copy of sl_sample_physics.h differs from the file (rebuild)\n");
-      return 1;
-    }
-    std::printf("embedded physics text: %zu bytes, identical to the header\n", ss.str().size());
-  }
-  std::string why;
-  if (!sl::have_display(&why)) {
-    std::fprintf(stderr, "FAIL %s (run under xvfb-run)\n", why.c_str());
+  if (!sl_test::embedded_text_is_file(argv[1], "render/volume/sl_sample_physics.h", sl_shader_sl_sample_physics))
     return 1;
-  }
+  std::string why;
   // 2. A model with two fields (cloud and rain) and real tables.
   sl_optics_request req;
   sl_optics_request_defaults(&req);
@@ -162,47 +137,28 @@ int main(int argc, char **argv)
     b[0] = (float)((angles - 1.001) * rng.next());                      // angle grid position
     b[1] = (float)(-2.0 + 5.0 * rng.next());                            // moments' rate
   }
-  vtkSmartPointer<vtkRenderWindow> window = sl::offscreen_window(count, 1);
-  window->Render();
-  auto *win = vtkOpenGLRenderWindow::SafeDownCast(window);
-  win->MakeCurrent();
+  std::string shader = kShader;
+  shader.replace(shader.find("//SL::Physics"), 13, sl::gpu_physics_prelude());
+  sl_test::CaseShader gpu;
+  if (!gpu.init(count, cases, shader, 3, &why)) {
+    std::fprintf(stderr, "FAIL %s (run under xvfb-run)\n", why.c_str());
+    return 1;
+  }
   sl::GpuModelTextures model;
-  if (!model.Upload(win, &m, &why)) {
+  if (!model.Upload(gpu.window(), &m, &why)) {
     std::fprintf(stderr, "FAIL %s\n", why.c_str());
     return 1;
   }
-  vtkTextureObject *input = sl::new_float_texture(win);
-  input->Create2DFromRaw(count, 2, 4, VTK_FLOAT, cases.data());
-  vtkOpenGLFramebufferObject *fbo = nullptr;
-  vtkOpenGLQuadHelper *quad = nullptr;
-  std::string shader = kShader;
-  shader.replace(shader.find("//SL::Physics"), 13, sl::gpu_physics_prelude());
-  win->GetState()->PushFramebufferBindings();
-  if (!sl::bind_float_targets(&fbo, win, count, 1, 3) || !sl::ready_quad(&quad, win, shader)) {
-    std::fprintf(stderr, "FAIL the OpenGL context cannot run the shared physics (float targets, GLSL)\n");
-    return 1;
-  }
-  win->GetState()->vtkglViewport(0, 0, count, 1);
-  win->GetState()->vtkglDisable(GL_BLEND);
-  win->GetState()->vtkglDisable(GL_DEPTH_TEST);
   const sl_lighting modes[3] = {SL_LIGHTING_MULTIPLE, SL_LIGHTING_MULTIPLE_EQ25, SL_LIGHTING_LOW_ALBEDO};
   const char *names[3] = {"eq. 24", "eq. 25", "low albedo"};
   int taylor = 0, closed = 0, past_n = 0;
   for (int mode = 0; mode < 3; ++mode) {
     m.mode = modes[mode];
     model.Activate();
-    input->Activate();
-    model.SetUniforms(quad->Program);
-    quad->Program->SetUniformi("cases", input->GetTextureUnit());
-    quad->Render();
-    input->Deactivate();
-    model.Deactivate();
+    model.SetUniforms(gpu.program());
     std::vector<float> out[3];
-    for (int t = 0; t < 3; ++t) {
-      out[t].resize(4 * count);
-      fbo->ActivateReadBuffer(t);
-      glReadPixels(0, 0, count, 1, GL_RGBA, GL_FLOAT, out[t].data());
-    }
+    gpu.run(out);
+    model.Deactivate();
     double worst_fraction = 0.0, worst_phase = 0.0, worst_moments = 0.0;
     for (int i = 0; i < count; ++i) {
       const float *a = &cases[4 * i], *b = &cases[4 * (count + i)];
@@ -242,11 +198,7 @@ int main(int argc, char **argv)
     std::fprintf(stderr, "FAIL the cases do not reach every branch\n");
     ++failures;
   }
-  win->GetState()->PopFramebufferBindings();
-  delete quad;
-  fbo->Delete();
-  input->Delete();
-  model.Release(win);
+  model.Release(gpu.window());
   sl_light_model_free(&m);
   sl_optics_free(optics);
   std::printf("%s\n", failures ? "FAILED" : "passed");
