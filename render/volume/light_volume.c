@@ -320,8 +320,8 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         sl_eye_phase_at(m, nf, nwl, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
         sl__sun_at(suntab, x, sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
-         * point): the slicer's closed-form gather with no extra in-segment attenuation. */
-        /* One exponential serves the step: opacity, transparency and the gather's moments. */
+         * point): the slicer's closed-form gather with no extra in-segment attenuation. One
+         * exponential serves the step: opacity, transparency and the gather's moments. */
         const double opacity = -expm1(-beta * dt);
         sl_segment_scatter_moments_exp(beta, dt, 1.0, 1.0 - opacity, moments);
         const double w = a[nwl], inv_beta = 1.0 / beta;
