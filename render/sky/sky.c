@@ -137,26 +137,14 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
   /* the part of the ray that exists: it ends where it meets the ground */
   double end = sl_sky_segment_length(z_eye, mu, t_far, atm->ground_radius);
   double near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
-  double z_near = z_eye + mu * near;
-  double length = isinf(end) ? end : end - near;
   double phase = sl_sky_rayleigh_phase(dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2]);
-  /* wavelength-independent geometry, once per ray */
-  double front_factor = near > 0.0 ? sl_sky_path_length_factor(gamma, z_near - z_eye, near) : 0.0;
-  double density_eye = exp(-gamma * z_eye), density_near = exp(-gamma * z_near);
-  double seg_factor = length > 0.0 ? sl_sky_segment_length_factor(gamma, mu, length) : 0.0;
-  double far_density = length > 0.0 ? exp(mu == 0.0 ? 0.0 : -gamma * mu * length) : 1.0;
+  double g[5]; /* wavelength-independent geometry, once per ray */
+  sl_sky_segment_geometry(gamma, z_eye, mu, near, end, g);
   for (int i = 0; i < atm->count; ++i) {
-    double beta = atm->beta_sea_level[i];
-    double front = near > 0.0 ? exp(-beta * density_eye * front_factor) : 1.0;
     if (radiance)
-      radiance[i] = atm->sun_irradiance[i] * front * phase *
-                    sl_sky_inscatter_gathered(beta * density_near, gamma, mu, seg_factor, far_density,
-                                              view->airmass);
-    if (transparency) {
-      /* an infinite horizontal ray never leaves the flat atmosphere: opaque, unless there is no air */
-      double beta_near = beta * density_near;
-      transparency[i] = !(beta_near > 0.0) ? 1.0 : isinf(seg_factor) ? 0.0 : exp(-beta_near * seg_factor);
-    }
+      radiance[i] = sl_sky_segment_radiance(atm->beta_sea_level[i], atm->sun_irradiance[i], phase, gamma, mu, near,
+                                            view->airmass, g);
+    if (transparency) transparency[i] = sl_sky_segment_transparency(atm->beta_sea_level[i], g);
   }
 }
 

@@ -8,4 +8,6 @@
 #define SL_SKY_INFINITY INFINITY
 #define sl_sky_isinf(x) isinf(x)
 #define sl_sky_abs(x) fabs(x)
+#define SL_SKY_IN_ARRAY(name, n) const double name[n]
+#define SL_SKY_OUT_ARRAY(name, n) double name[n]
 #include "sky_sample_shared.h"

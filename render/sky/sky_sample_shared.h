@@ -1,8 +1,9 @@
 /* The bodies of sl_sky_sample.h (Riley et al. 2004, eqs. 1, 9-15; derivations in docs/SKY.md),
  * written once in a subset that compiles as C (sky_sample.c includes this file with double) and
  * as GLSL (the GPU pass embeds this very text, tests/gpu checks both): scalars only, no
- * pointers, no const locals, no literal suffixes; the includer defines SL_SKY_REAL,
- * SL_SKY_INFINITY, sl_sky_isinf and sl_sky_abs. Not a header to include anywhere else. */
+ * pointers, no const locals, no literal suffixes, arrays only as fixed-size parameters; the
+ * includer defines SL_SKY_REAL, SL_SKY_INFINITY, sl_sky_isinf, sl_sky_abs, SL_SKY_IN_ARRAY and
+ * SL_SKY_OUT_ARRAY. Not a header to include anywhere else. */
 
 SL_SKY_REAL sl_sky_exprel(SL_SKY_REAL x)
 {
@@ -108,4 +109,41 @@ SL_SKY_REAL sl_sky_inscatter(SL_SKY_REAL beta_sea_level, SL_SKY_REAL inv_scale_h
   SL_SKY_REAL far_density = exp(mu == 0.0 ? 0.0 : -gamma * mu * distance); /* beta_K / beta_eye */
   return sl_sky_rayleigh_phase(cos_view_sun) *
          sl_sky_inscatter_gathered(beta_eye, gamma, mu, length, far_density, airmass);
+}
+
+/* The wavelength-independent geometry of the stretch [near, end] of a view ray (from an eye at
+ * height z_eye, direction cosine mu; end may be infinite, near <= end) that sl_sky_view_segment
+ * gathers over: g[0] the path length factor from the eye to near (eq. 11), g[1] and g[2] the air
+ * density relative to sea level at the eye and at near, g[3] the stretch's length factor D
+ * (sl_sky_segment_length_factor), g[4] the density at its end relative to near. */
+void sl_sky_segment_geometry(SL_SKY_REAL inv_scale_height, SL_SKY_REAL z_eye, SL_SKY_REAL mu, SL_SKY_REAL near,
+                             SL_SKY_REAL end, SL_SKY_OUT_ARRAY(g, 5))
+{
+  SL_SKY_REAL gamma = inv_scale_height;
+  SL_SKY_REAL z_near = z_eye + mu * near;
+  SL_SKY_REAL length = sl_sky_isinf(end) ? end : end - near;
+  g[0] = near > 0.0 ? sl_sky_path_length_factor(gamma, z_near - z_eye, near) : 0.0;
+  g[1] = exp(-gamma * z_eye);
+  g[2] = exp(-gamma * z_near);
+  g[3] = length > 0.0 ? sl_sky_segment_length_factor(gamma, mu, length) : 0.0;
+  g[4] = length > 0.0 ? exp(mu == 0.0 ? 0.0 : -gamma * mu * length) : 1.0;
+}
+
+/* Riley et al. 2004, eqs. 14-15 corrected, over that stretch for one wavelength of sea-level
+ * extinction beta and top-of-atmosphere irradiance: the sunlight the stretch scatters toward
+ * the eye (Rayleigh phase value `phase`), attenuated by the air between the eye and near. */
+SL_SKY_REAL sl_sky_segment_radiance(SL_SKY_REAL beta, SL_SKY_REAL irradiance, SL_SKY_REAL phase,
+                                    SL_SKY_REAL inv_scale_height, SL_SKY_REAL mu, SL_SKY_REAL near,
+                                    SL_SKY_REAL airmass, SL_SKY_IN_ARRAY(g, 5))
+{
+  SL_SKY_REAL front = near > 0.0 ? exp(-beta * g[1] * g[0]) : 1.0;
+  return irradiance * front * phase * sl_sky_inscatter_gathered(beta * g[2], inv_scale_height, mu, g[3], g[4], airmass);
+}
+
+/* Riley eq. 11: the stretch's own transparency; an infinite horizontal stretch never leaves the
+ * flat atmosphere and is opaque, unless there is no air. */
+SL_SKY_REAL sl_sky_segment_transparency(SL_SKY_REAL beta, SL_SKY_IN_ARRAY(g, 5))
+{
+  SL_SKY_REAL beta_near = beta * g[2];
+  return !(beta_near > 0.0) ? 1.0 : sl_sky_isinf(g[3]) ? 0.0 : exp(-beta_near * g[3]);
 }

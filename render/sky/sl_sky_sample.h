@@ -76,6 +76,13 @@ double sl_sky_segment_length_factor(double inv_scale_height, double mu, double d
 double sl_sky_inscatter_gathered(double beta_eye, double inv_scale_height, double mu, double length,
                                  double far_density, double airmass);
 
+/* The view-segment pieces of sl_sky_view_segment (sl_sky.h), one wavelength at a time over a
+ * geometry computed once per ray: see sky_sample_shared.h. */
+void sl_sky_segment_geometry(double inv_scale_height, double z_eye, double mu, double near, double end, double g[5]);
+double sl_sky_segment_radiance(double beta, double irradiance, double phase, double inv_scale_height, double mu,
+                               double near, double airmass, const double g[5]);
+double sl_sky_segment_transparency(double beta, const double g[5]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -3,7 +3,8 @@
 // 1. the text the shaders embed is the file's, byte for byte;
 // 2. compiled as GLSL it gives the C results (double) on a spread of rays to float accuracy:
 //    flat and round earth, rays up, down and horizontal, finite and infinite segments, day and
-//    night (infinite air mass), the series branch of exprel and the closed form.
+//    night (infinite air mass), the series branch of exprel and the closed form, and the pieces
+//    sl_sky_view_segment is made of (the ray's geometry, one wavelength's light and transparency).
 // Needs an X display (xvfb-run).
 #include <algorithm>
 #include <cmath>
@@ -44,6 +45,8 @@ const char *kShader = R"GLSL(//VTK::System::Dec
 #define SL_SKY_INFINITY slInfinity
 #define sl_sky_isinf(x) isinf(x)
 #define sl_sky_abs(x) abs(x)
+#define SL_SKY_IN_ARRAY(name, n) in float name[n]
+#define SL_SKY_OUT_ARRAY(name, n) out float name[n]
 uniform float slInfinity;
 //SL::Sky
 uniform sampler2D cases; // texel (i, 0): x, z_eye, mu, distance; (i, 1): airmass, cos, ground radius, beta
@@ -62,7 +65,12 @@ void main()
   gl_FragData[1] = vec4(sl_sky_ground_distance(a.y, a.z, b.z), sl_sky_segment_length(a.y, a.z, a.w, b.z),
                         sl_sky_segment_length_factor(gamma, a.z, sl_sky_segment_length(a.y, a.z, a.w, b.z)),
                         sl_sky_inscatter(b.w, gamma, a.y, a.z, sl_sky_segment_length(a.y, a.z, a.w, b.z), b.x, b.y));
-  gl_FragData[2] = vec4(sl_sky_path_length_factor(gamma, a.z * 1000.0, 1000.0), 0.0, 0.0, 1.0);
+  float end = sl_sky_segment_length(a.y, a.z, a.w, b.z), near = 0.5 * min(end, 3000.0);
+  float g[5];
+  sl_sky_segment_geometry(gamma, a.y, a.z, near, end, g);
+  gl_FragData[2] = vec4(sl_sky_path_length_factor(gamma, a.z * 1000.0, 1000.0),
+                        sl_sky_segment_radiance(b.w, 1.0, sl_sky_rayleigh_phase(b.y), gamma, a.z, near, b.x, g),
+                        sl_sky_segment_transparency(b.w, g), g[3]);
 }
 )GLSL";
 
@@ -101,9 +109,11 @@ int main(int argc, char **argv)
   gpu.program()->SetUniformf("slInfinity", std::numeric_limits<float>::infinity());
   std::vector<float> out[3];
   gpu.run(out);
-  const char *names[9] = {"exprel", "Rayleigh phase", "optical depth", "sun optical depth", "ground distance",
-                          "segment length", "segment length factor", "in-scattering", "path length factor"};
-  double worst[9] = {0};
+  const int nf = 12;
+  const char *names[nf] = {"exprel", "Rayleigh phase", "optical depth", "sun optical depth", "ground distance",
+                           "segment length", "segment length factor", "in-scattering", "path length factor",
+                           "view-segment light", "view-segment transparency", "view-segment length factor"};
+  double worst[nf] = {0};
   int infinite = 0, series = 0, night = 0, lit = 0;
   const double gamma = 1.0 / 8000.0;
   for (int i = 0; i < count; ++i) {
@@ -111,7 +121,7 @@ int main(int argc, char **argv)
     const float *a = &cases[4 * i], *b = &cases[4 * (count + i)];
     const double near_length = std::min((double)a[3], 1.0e5);
     const double segment = sl_sky_segment_length(a[1], a[2], a[3], b[2]);
-    const double cpu[9] = {sl_sky_exprel(a[0]),
+    double cpu[nf] = {sl_sky_exprel(a[0]),
                            sl_sky_rayleigh_phase(b[1]),
                            sl_sky_optical_depth(b[3], gamma, a[1], a[1] + a[2] * near_length, near_length),
                            sl_sky_sun_optical_depth(b[3], gamma, a[1], b[0]),
@@ -119,15 +129,22 @@ int main(int argc, char **argv)
                            segment,
                            sl_sky_segment_length_factor(gamma, a[2], segment),
                            sl_sky_inscatter(b[3], gamma, a[1], a[2], segment, b[0], b[1]),
-                           sl_sky_path_length_factor(gamma, a[2] * 1000.0, 1000.0)};
-    const double gpu[9] = {out[0][4 * i], out[0][4 * i + 1], out[0][4 * i + 2], out[0][4 * i + 3],
-                           out[1][4 * i], out[1][4 * i + 1], out[1][4 * i + 2], out[1][4 * i + 3],
-                           out[2][4 * i]};
-    for (int f = 0; f < 9; ++f) {
+                           sl_sky_path_length_factor(gamma, a[2] * 1000.0, 1000.0), 0.0, 0.0, 0.0};
+    // The view-segment pieces over [near, end], near halfway to 1.5 km or to the ground.
+    const float end = (float)segment, near = 0.5f * std::min(end, 3000.0f);
+    double g[5];
+    sl_sky_segment_geometry(gamma, a[1], a[2], near, end, g);
+    cpu[9] = sl_sky_segment_radiance(b[3], 1.0, sl_sky_rayleigh_phase(b[1]), gamma, a[2], near, b[0], g);
+    cpu[10] = sl_sky_segment_transparency(b[3], g);
+    cpu[11] = g[3];
+    const double gpu[nf] = {out[0][4 * i], out[0][4 * i + 1], out[0][4 * i + 2], out[0][4 * i + 3],
+                            out[1][4 * i], out[1][4 * i + 1], out[1][4 * i + 2], out[1][4 * i + 3],
+                            out[2][4 * i], out[2][4 * i + 1], out[2][4 * i + 2], out[2][4 * i + 3]};
+    for (int f = 0; f < nf; ++f) {
       // Float's own rounding through a few exponentials and a square root: 1e-5 relative (the
       // worst measured is 5e-6); absolute 1e-12 per unit irradiance for the in-scattering (a
       // night or empty ray is exactly 0), 1e-9 otherwise.
-      const double rel = 1e-5, abs_tol = f == 7 ? 1e-12 : 1e-9;
+      const double rel = 1e-5, abs_tol = f == 7 || f == 9 ? 1e-12 : 1e-9;
       if (!agrees(gpu[f], cpu[f], rel, abs_tol)) {
         if (++failures <= 20)
           std::fprintf(stderr, "FAIL %s case %d: GPU %.9g, C %.9g (z %g, mu %g, distance %g, air mass %g, R %g)\n",
@@ -141,7 +158,7 @@ int main(int argc, char **argv)
     night += std::isinf(b[0]);
     lit += cpu[7] > 0.0;
   }
-  for (int f = 0; f < 9; ++f) std::printf("%-22s worst relative difference %.2e\n", names[f], worst[f]);
+  for (int f = 0; f < nf; ++f) std::printf("%-26s worst relative difference %.2e\n", names[f], worst[f]);
   std::printf("%d cases: %d rays missing the ground, %d in exprel's series, %d at night, %d lit\n", count, infinite,
               series, night, lit);
   if (infinite < 20 || series < 20 || night < 20 || lit < 100) {
