@@ -61,7 +61,7 @@ using TablesPtr = std::unique_ptr<sl_optics_tables, void (*)(sl_optics_tables *)
 // One setting of the fast renderer. Zero means "automatic" as in sl_scene.
 struct Setting {
   std::string name, family;
-  int slices = 0, light_resolution = 0, max_order = 0;
+  int slices = 0, light_resolution = 0, max_order = 0, march_samples = 0;
   sl_lighting lighting = SL_LIGHTING_MULTIPLE;
   double xi = 0.05;
   bool spectral = false, light_volume = false;
@@ -164,6 +164,9 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
   for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
     if (xi != base.xi) add("xi", "xi " + fmt("%g", xi), [xi](Setting &s) { s.xi = xi; });
   add("light volume", "light volume", [](Setting &s) { s.light_volume = true; });
+  for (int n : {1, 4})
+    add("light volume", "light volume, " + std::to_string(n) + (n == 1 ? " sample" : " samples") + " per cell",
+        [n](Setting &s) { s.light_volume = true, s.march_samples = n; });
   add("fast", "slices 64, light buffer 64", [](Setting &s) { s.slices = 64, s.light_resolution = 64; });
   add("fast", "slices 32, light buffer 32", [](Setting &s) { s.slices = 32, s.light_resolution = 32; });
   return v;
@@ -426,7 +429,7 @@ int sl_cmd_validate(int argc, char **argv)
     sc->optics = tables_for(s.spectral, s.max_order);
     if (!sc->optics) return false;
     sc->lighting = s.lighting, sc->xi = s.xi, sc->slices = s.slices, sc->light_resolution = s.light_resolution;
-    sc->light_volume = s.light_volume;
+    sc->light_volume = s.light_volume, sc->march_samples = s.march_samples;
     sl_sun_direction(rs.sun_elevation_deg, rs.sun_azimuth_deg, sc->sun_direction);
     for (int c = 0; c < SL_CHANNELS; ++c) sc->sun_irradiance[c] = 1.0, sc->sky_radiance[c] = rs.sky[c];
     sc->termination_transparency = 1e-6;  // as stormlight render

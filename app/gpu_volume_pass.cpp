@@ -420,6 +420,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   p->SetUniform3f("slOrigin", origin);
   p->SetUniformf("slGroundRadius", (float)ground_radius);
   p->SetUniformf("slTermination", (float)in.termination_transparency);
+  p->SetUniformf("slMarchSamples", (float)in.march_samples);
   eye_quad_->Render();
   model_.Deactivate();
   deactivate({fields_, light_, sunlight_, opaque_});

@@ -58,10 +58,11 @@ bool RenderSession::prepare(const Options &opts, const std::string &path, bool q
     *why = message, *exit = 1;
     return false;
   };
-  long slices, light_res, time_index;
+  long slices, light_res, time_index, march_samples;
   double dz;
   std::vector<double> sky;
   if (!o.integer("slices", &slices, 0, 16384) || !o.integer("light-resolution", &light_res, 0, 8192) ||
+      !o.integer("march-samples", &march_samples, 1, 8) ||
       !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) || !o.number("dz", &dz) || !o.list("sky", &sky))
     return usage(o.error());
   if (sky.size() != 3) return usage("--sky needs three numbers R,G,B");
@@ -162,6 +163,7 @@ bool RenderSession::prepare(const Options &opts, const std::string &path, bool q
   scene.termination_transparency = 1e-6;
   scene.slices = (int)slices;
   scene.light_resolution = (int)light_res;
+  scene.march_samples = (int)march_samples;
   parts_->progress.reset(new Progress("rendering", !quiet));
   scene.progress = progress_hook;
   scene.progress_user = parts_->progress.get();

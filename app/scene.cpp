@@ -78,6 +78,8 @@ void declare_render_options(Options &o)
   o.option("fog-depth-km", "D", "with fog: how deep the fog bank in front of the camera is (what lies farther is seen "
            "through all of it)", "2");
   o.flag("light-volume", "light a cached view-independent light volume once, then ray-march (fast camera moves)");
+  o.option("march-samples", "N", "with --light-volume or --gpu: eye samples per grid cell along a ray, 1..8 (fewer is\n"
+           "faster and coarser on thick cloud surfaces; docs/ACCURACY.md)", "2");
   o.flag("no-atmosphere", "no air: unattenuated white sunlight and the constant --sky behind the volume");
   o.option("camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)");
   o.option("camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)");

@@ -1,7 +1,7 @@
 //VTK::System::Dec
 // Stormlight: the eye pass over the light volume (render/volume/light_volume.c's ray march on the
-// GPU): two samples per grid cell along each pixel's ray through the content box, the closed-form
-// gather of eq. 26 between samples, front-to-back. Writes the accumulator the CPU resolves:
+// GPU): slMarchSamples (2 by default) samples per grid cell along each pixel's ray through the
+// content box, the closed-form gather of eq. 26 between samples, front-to-back. Writes the accumulator the CPU resolves:
 // radiance per wavelength and the transparency, then the opacity-weighted depth numerator.
 //SL::Physics
 uniform vec3 slEye;            // camera position relative to the lattice's sample (0,0,0)
@@ -17,6 +17,7 @@ uniform float slSunZ0, slSunDz;
 uniform vec3 slOrigin;         // world position of the lattice's sample (0,0,0)
 uniform float slGroundRadius;  // 0: altitude is world z; R: above the sphere centred at (0,0,-R)
 uniform float slTermination;
+uniform float slMarchSamples;  // eye samples per grid cell (light_volume.c's march_samples)
 uniform sampler2D slOpaque;    // distance along each pixel's ray to the terrain or the round earth (rows from the top)
 in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
 //VTK::Output::Dec
@@ -76,7 +77,7 @@ void main()
     }
     float dt = 3.0e38;
     for (int a = 0; a < 3; ++a)
-      if (abs(d[a]) > 1e-12) dt = min(dt, 0.5 * slSpacing[a] / abs(d[a]));
+      if (abs(d[a]) > 1e-12) dt = min(dt, slSpacing[a] / (slMarchSamples * abs(d[a])));
     int nsteps = sl_march_steps(t1 - t0, dt);
     dt = (t1 - t0) / float(max(nsteps, 1));
     vec4 l0 = slSampleLight(slEye + t0 * d);

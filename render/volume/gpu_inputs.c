@@ -20,6 +20,7 @@ void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *ou
   memcpy(out->content_center, r->content_center, sizeof r->content_center);
   memcpy(out->sun_direction, r->scene.sun_direction, sizeof out->sun_direction);
   out->termination_transparency = r->scene.termination_transparency;
+  out->march_samples = sl__march_samples(&r->scene);
   out->any_extinction = r->any_extinction;
 }
 

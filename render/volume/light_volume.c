@@ -249,6 +249,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
   const double tan_half = f->tan_half, aspect = f->aspect, h_center = f->h_center, f_o = f->f_o;
   const size_t np = (size_t)img->width * img->height;
   const double *o = cam->position, *sun = sc->sun_direction;
+  const int march_samples = sl__march_samples(sc);
   long samples = 0;
 #pragma omp for schedule(dynamic, 64) nowait
   for (size_t q = 0; q < np; ++q) {
@@ -274,11 +275,12 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         if (angle_index > grid_table->n_angles - 2) angle_index = grid_table->n_angles - 2;
         angle_weight = u - angle_index > 1.0 ? 1.0 : u - angle_index;
       }
-      /* Two samples per grid cell along every axis: the light volume holds the light at the
-       * grid's resolution, and a finer march keeps optically thick surfaces from speckling. */
+      /* By default two samples per grid cell along every axis: the light volume holds the light
+       * at the grid's resolution, and a finer march keeps optically thick surfaces from
+       * speckling. */
       double dt = INFINITY;
       for (int ax = 0; ax < 3; ++ax)
-        if (fabs(d[ax]) > 1e-12) dt = fmin(dt, 0.5 * r->shape.spacing[ax] / fabs(d[ax]));
+        if (fabs(d[ax]) > 1e-12) dt = fmin(dt, r->shape.spacing[ax] / (march_samples * fabs(d[ax])));
       const int nsteps = sl_march_steps(t1 - t0, dt);
       dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
       double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];

@@ -152,6 +152,10 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     sl_fail(err, SL_ERR_ARG, "renderer: %d slices is out of range (1..16384)", scene->slices);
     return NULL;
   }
+  if (scene->march_samples < 0 || scene->march_samples > 8) {
+    sl_fail(err, SL_ERR_ARG, "renderer: %d march samples per grid cell is out of range (1..8)", scene->march_samples);
+    return NULL;
+  }
   if (scene->light_resolution < 0 || scene->light_resolution > 8192) {
     sl_fail(err, SL_ERR_ARG, "renderer: light-buffer resolution %d is out of range (1..8192)",
             scene->light_resolution);

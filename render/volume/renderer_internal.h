@@ -149,6 +149,9 @@ void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
                        const float *a, sl_image *img, size_t q);
 
+/* The light-volume march's samples per grid cell (sl_scene.march_samples, 0 meaning 2). */
+static inline int sl__march_samples(const sl_scene *sc) { return sc->march_samples > 0 ? sc->march_samples : 2; }
+
 /* The eye pass of the cached light volume (light_volume.c). */
 int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,
                                  sl_error *err);

@@ -56,6 +56,9 @@ typedef struct sl_scene {
    * frames with a ray-marching eye pass (camera moves then cost only that pass); 0: half-angle
    * slicing per frame, the paper's method. */
   int light_volume;
+  /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 2). Fewer is faster
+   * in proportion and coarser on optically thick surfaces (docs/ACCURACY.md). */
+  int march_samples;
   /* Called from one thread after each slice with the fraction done; may be NULL. */
   void (*progress)(void *user, double fraction);
   void *progress_user;

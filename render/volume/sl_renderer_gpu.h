@@ -23,6 +23,7 @@ typedef struct sl_renderer_gpu_inputs {
   double content_lo[3], content_hi[3], content_center[3];
   double sun_direction[3];        /* unit, toward the sun */
   double termination_transparency;
+  int march_samples;              /* eye samples per grid cell along a ray */
   int any_extinction;
 } sl_renderer_gpu_inputs;
 

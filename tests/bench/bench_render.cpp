@@ -1,4 +1,4 @@
-// bench_render [STORM.nc] [--grid N] [--repeat N] [--quick] [--only I,J,...]
+// bench_render [STORM.nc] [--grid N] [--repeat N] [--quick] [--only I,J,...] [--march-samples N]
 // Times the CPU half-angle slicer: load, plan, light pass, eye pass, frame and EXR write, for the
 // low-albedo model and the multiple-scattering lighting at 3 and 16 wavelengths, at 512x512 with
 // 256 slices and 768x768 with 512 slices. With --grid N the storm is resampled (trilinearly) to
@@ -91,13 +91,14 @@ Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep)
 int main(int argc, char **argv)
 {
   std::string storm = "datasets/cumulonimbus.nc";
-  int grid = 0, repeat = 3;
+  int grid = 0, repeat = 3, march_samples = 0;
   bool quick = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--grid") && i + 1 < argc) grid = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--march-samples") && i + 1 < argc) march_samples = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else storm = argv[i];
   }
@@ -182,6 +183,7 @@ int main(int argc, char **argv)
     sc.slices = c.slices;
     sc.termination_transparency = 1e-6;
     sc.light_volume = c.light_volume;
+    sc.march_samples = march_samples;  // the light-volume rows' eye samples per cell (0: the default, 2)
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
     const bool slicer_512 = c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume;
     const Timing t = time_frames(sc, c.size, repeat, slicer_512 ? &keep : nullptr);
