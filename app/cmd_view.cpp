@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <ctime>
 #include <cstdio>
 #include <fstream>
@@ -172,7 +173,7 @@ bool write_scene(const ViewState &s, const std::string &path, std::string *why)
 // What a change invalidates, from the most to the least: a new time step reloads the storm (a
 // new session); the sun relights the volume; xi and the camera redraw the eye pass (and the sky
 // for the view); the exposure only tone-maps the kept HDR frame again.
-enum class Change { Time, Sun, Xi, Camera, Exposure };
+enum class Change { Time, Sun, Xi, Camera, Exposure, Quality };
 
 const char *change_name(Change c)
 {
@@ -182,6 +183,7 @@ const char *change_name(Change c)
     case Change::Xi: return "xi (eye pass)";
     case Change::Camera: return "camera (eye pass)";
     case Change::Exposure: return "exposure (tone map)";
+    case Change::Quality: return "march samples (eye pass)";
   }
   return "";
 }
@@ -212,6 +214,23 @@ class Viewer {
   {
     session.reset();
     for (sl_image *img : {&hdr, &volume, &background}) sl_image_free(img);
+  }
+
+  // render's --march-samples as the state carries it (2 when not given).
+  int march_samples() const
+  {
+    for (const auto &kv : state.options)
+      if (kv.first == "march-samples") return std::atoi(kv.second.c_str());
+    return 2;
+  }
+  void set_option(const std::string &name, const std::string &value)
+  {
+    for (auto &kv : state.options)
+      if (kv.first == name) {
+        kv.second = value;
+        return;
+      }
+    state.options.emplace_back(name, value);
   }
 
   // The camera render places for the state (render_main's framing, or the explicit camera).
@@ -256,6 +275,7 @@ class Viewer {
     if (change == Change::Time) ok = Prepare(&why);
     else if (change == Change::Sun) ok = session->set_sun(state.sun_el, state.sun_az, &why);
     else if (change == Change::Xi) session->set_xi(state.xi);
+    else if (change == Change::Quality) ok = session->set_march_samples(march_samples(), &why);
     if (ok && change != Change::Exposure) {
       PlaceCamera();
       if (hdr.width != camera.width || hdr.height != camera.height) {
@@ -396,7 +416,13 @@ class Viewer {
     else if (k == "s") state.sun_el = std::max(-10.0, state.sun_el - 2.0), change = Change::Sun;
     else if (k == "x") state.xi = std::max(0.0, state.xi - 0.01), change = Change::Xi;
     else if (k == "X") state.xi += 0.01, change = Change::Xi;
-    else if (k == "plus" || k == "equal") state.exposure *= 1.25, change = Change::Exposure;
+    else if (k == "m" || k == "M") {
+      /* The light-volume march's samples per cell (render's --march-samples), kept with render's
+       * other options so that a saved scene reproduces the frame. */
+      const int n = std::max(1, std::min(8, march_samples() + (k == "m" ? -1 : 1)));
+      set_option("march-samples", std::to_string(n));
+      change = Change::Quality;
+    } else if (k == "plus" || k == "equal") state.exposure *= 1.25, change = Change::Exposure;
     else if (k == "minus") state.exposure /= 1.25, change = Change::Exposure;
     else if (k == "z") state.fov = std::max(2.0, state.fov / 1.1);
     else if (k == "Z") state.fov = std::min(120.0, state.fov * 1.1);
@@ -544,7 +570,7 @@ int sl_cmd_view(int argc, char **argv)
                 "An interactive window on a storm, drawn with the GPU pass (render --gpu; the CPU when the OpenGL\n"
                 "context cannot). Mouse: left drag orbits, middle drag pans, the wheel zooms. Keys: arrows orbit;\n"
                 "i/j/k/l pan; a/d sun azimuth -/+ 5 degrees; w/s sun elevation +/- 2; h/H the date -/+ 1 hour, n/N -/+ 1 day (the sun follows);\n"
-                "t/T the series' time step -/+ 1; x/X xi -/+ 0.01; -/+ exposure; z/Z zoom; p saves the view\n"
+                "t/T the series' time step -/+ 1; x/X xi -/+ 0.01; m/M march samples per cell -/+ 1; -/+ exposure; z/Z zoom; p saves the view\n"
                 "as PREFIX.json (a scene for render --scene) and PREFIX.exr. --script plays events and exits.");
   sl::declare_render_options(o);
   o.option("scene", "FILE.json", "start from a scene file");

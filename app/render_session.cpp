@@ -187,6 +187,17 @@ bool RenderSession::set_sun(double elevation_deg, double compass_azimuth_deg, st
   return true;
 }
 
+bool RenderSession::set_march_samples(int samples, std::string *why)
+{
+  sl_error err{};
+  if (sl_renderer_set_march_samples(renderer, samples, &err)) {
+    *why = err.message;
+    return false;
+  }
+  scene.march_samples = samples;
+  return true;
+}
+
 void RenderSession::set_xi(double xi)
 {
   scene.xi = xi;

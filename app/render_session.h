@@ -37,6 +37,8 @@ class RenderSession {
   // frame, on the GPU or the CPU.
   bool set_sun(double elevation_deg, double compass_azimuth_deg, std::string *why);
   void set_xi(double xi);
+  // The light-volume march's samples per grid cell (1..8) for the next draws; false with why.
+  bool set_march_samples(int samples, std::string *why);
 
   // The volume layer and the background for cam. gpu: the GPU pass, falling back to the CPU
   // with *gpu_note saying why (then *gpu_done is false).

@@ -278,6 +278,14 @@ int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error 
   return SL_OK;
 }
 
+int sl_renderer_set_march_samples(sl_renderer *r, int samples, sl_error *err)
+{
+  if (samples < 0 || samples > 8)
+    return sl_fail(err, SL_ERR_ARG, "renderer: %d march samples per grid cell is out of range (1..8)", samples);
+  r->scene.march_samples = samples;
+  return SL_OK;
+}
+
 void sl_renderer_set_xi(sl_renderer *r, double xi)
 {
   r->scene.xi = xi;

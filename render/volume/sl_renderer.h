@@ -106,6 +106,9 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error *err);
 /* Eq. 26's xi for the next frames; only the eye gather reads it (the light volume stays). */
 void sl_renderer_set_xi(sl_renderer *r, double xi);
+/* The light-volume march's samples per grid cell for the next frames (1..8; 0: 2); the light
+ * volume stays. Returns SL_ERR_ARG outside the range. */
+int sl_renderer_set_march_samples(sl_renderer *r, int samples, sl_error *err);
 
 /* The background behind and around the volume for this camera, opaque: the whole ray's sky plus
  * the sun's disk (or the constant sky without an atmosphere). Its depth is the view-axis distance
