@@ -148,22 +148,9 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
   }
 }
 
-double sl_sun_disk_solid_angle(void)
-{
-  const double radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
-  /* 2 pi (1 - cos r), written with sin^2 to avoid the cancellation of 1 - cos for small r. */
-  double s = sin(0.5 * radius);
-  return 4.0 * 3.14159265358979323846 * s * s;
-}
-
 int sl_sky_in_sun_disk(const double dir[3], const double sun_dir[3])
 {
-  const double radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
-  if (!(sun_dir[2] > 0.0)) return 0;
-  /* Compare chord lengths, not the cosine: cos(0.25 deg) = 0.9999905 leaves 5 digits. */
-  double dx = dir[0] - sun_dir[0], dy = dir[1] - sun_dir[1], dz = dir[2] - sun_dir[2];
-  double chord = 2.0 * sin(0.5 * radius);
-  return dx * dx + dy * dy + dz * dz <= chord * chord;
+  return sl_sky_in_sun_disk_at(dir[0] - sun_dir[0], dir[1] - sun_dir[1], dir[2] - sun_dir[2], sun_dir[2]);
 }
 
 int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], const double dir[3],
@@ -173,12 +160,9 @@ int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], cons
   double up[3];
   const double z = sl_sky_altitude(atm, eye, up);
   double airmass = inside ? sl_sky_airmass(atm, z, dot3(sun_dir, up)) : INFINITY;
-  double gamma = 1.0 / atm->scale_height, omega = sl_sun_disk_solid_angle();
+  double gamma = 1.0 / atm->scale_height;
   for (int i = 0; i < atm->count; ++i)
-    radiance[i] = isinf(airmass) ? 0.0
-                                 : atm->sun_irradiance[i] / omega *
-                                       exp(-sl_sky_sun_optical_depth(atm->beta_sea_level[i], gamma,
-                                                                     z, airmass));
+    radiance[i] = sl_sky_sun_disk_light(atm->sun_irradiance[i], atm->beta_sea_level[i], gamma, z, airmass);
   return inside && !isinf(airmass);
 }
 

@@ -3,7 +3,8 @@
  * as GLSL (the GPU pass embeds this very text, tests/gpu checks both): scalars only, no
  * pointers, no const locals, no literal suffixes, arrays only as fixed-size parameters; the
  * includer defines SL_SKY_REAL, SL_SKY_INFINITY, sl_sky_isinf, sl_sky_abs, SL_SKY_IN_ARRAY and
- * SL_SKY_OUT_ARRAY. Not a header to include anywhere else. */
+ * SL_SKY_OUT_ARRAY, and SL_SUN_ANGULAR_DIAMETER_DEG (sl_sky_sample.h). Not a header to include
+ * anywhere else. */
 
 SL_SKY_REAL sl_sky_exprel(SL_SKY_REAL x)
 {
@@ -146,4 +147,31 @@ SL_SKY_REAL sl_sky_segment_transparency(SL_SKY_REAL beta, SL_SKY_IN_ARRAY(g, 5))
 {
   SL_SKY_REAL beta_near = beta * g[2];
   return !(beta_near > 0.0) ? 1.0 : sl_sky_isinf(g[3]) ? 0.0 : exp(-beta_near * g[3]);
+}
+
+/* Section 4.2.4: the sun's disk. Its solid angle 2 pi (1 - cos r), written with sin^2 to avoid
+ * the cancellation of 1 - cos for small r. */
+SL_SKY_REAL sl_sun_disk_solid_angle(void)
+{
+  SL_SKY_REAL radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
+  SL_SKY_REAL s = sin(0.5 * radius);
+  return 4.0 * 3.14159265358979323846 * s * s;
+}
+
+/* Chord lengths, not the cosine: cos(0.25 deg) = 0.9999905 leaves 5 digits. */
+int sl_sky_in_sun_disk_at(SL_SKY_REAL dx, SL_SKY_REAL dy, SL_SKY_REAL dz, SL_SKY_REAL sun_z)
+{
+  SL_SKY_REAL radius = 0.5 * SL_SUN_ANGULAR_DIAMETER_DEG * 3.14159265358979323846 / 180.0;
+  if (!(sun_z > 0.0)) return 0;
+  SL_SKY_REAL chord = 2.0 * sin(0.5 * radius);
+  return dx * dx + dy * dy + dz * dz <= chord * chord ? 1 : 0;
+}
+
+/* The disk's radiance: the sunlight attenuated to height z (Riley eq. 12) over the solid angle. */
+SL_SKY_REAL sl_sky_sun_disk_light(SL_SKY_REAL irradiance, SL_SKY_REAL beta_sea_level, SL_SKY_REAL inv_scale_height,
+                                  SL_SKY_REAL z, SL_SKY_REAL airmass)
+{
+  if (sl_sky_isinf(airmass)) return 0.0;
+  return irradiance / sl_sun_disk_solid_angle() *
+         exp(-sl_sky_sun_optical_depth(beta_sea_level, inv_scale_height, z, airmass));
 }

@@ -126,8 +126,8 @@ int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double e
 void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_near, double t_far,
                          double *radiance, double *transparency);
 
-/* Section 4.2.4: the direct sun. Angular diameter 0.5 degrees. */
-#define SL_SUN_ANGULAR_DIAMETER_DEG 0.5
+/* Section 4.2.4: the direct sun (its angular diameter, SL_SUN_ANGULAR_DIAMETER_DEG, and the
+ * per-ray pieces are in sl_sky_sample.h). */
 /* Returns 1 when dir lies within the sun's disk (and the sun is up), else 0. */
 int sl_sky_in_sun_disk(const double dir[3], const double sun_dir[3]);
 /* Radiance of the sun's disk seen from eye: the attenuated irradiance divided by the disk's
@@ -135,7 +135,6 @@ int sl_sky_in_sun_disk(const double dir[3], const double sun_dir[3]);
  * transparency. Returns 1 when dir is inside the disk. */
 int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], const double dir[3],
                              const double sun_dir[3], double *radiance);
-double sl_sun_disk_solid_angle(void);
 
 /* Unit vector toward the sun (x east, y north, z up) from elevation and azimuth in degrees,
  * azimuth clockwise from north. */

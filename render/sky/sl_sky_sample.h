@@ -76,6 +76,17 @@ double sl_sky_segment_length_factor(double inv_scale_height, double mu, double d
 double sl_sky_inscatter_gathered(double beta_eye, double inv_scale_height, double mu, double length,
                                  double far_density, double airmass);
 
+/* Section 4.2.4: the direct sun's angular diameter, and the pieces of sl_sky_in_sun_disk and
+ * sl_sky_sun_disk_radiance (sl_sky.h): the disk's solid angle; whether a view direction lies in
+ * the disk, from its difference (dx, dy, dz) to the unit vector toward the sun and that vector's
+ * z (a sun below the horizon shows no disk); one wavelength's radiance of the disk seen from
+ * height z through an air mass (0 at night: infinite air mass). */
+#define SL_SUN_ANGULAR_DIAMETER_DEG 0.5
+double sl_sun_disk_solid_angle(void);
+int sl_sky_in_sun_disk_at(double dx, double dy, double dz, double sun_z);
+double sl_sky_sun_disk_light(double irradiance, double beta_sea_level, double inv_scale_height, double z,
+                             double airmass);
+
 /* The view-segment pieces of sl_sky_view_segment (sl_sky.h), one wavelength at a time over a
  * geometry computed once per ray: see sky_sample_shared.h. */
 void sl_sky_segment_geometry(double inv_scale_height, double z_eye, double mu, double near, double end, double g[5]);

@@ -4,7 +4,8 @@
 // 2. compiled as GLSL it gives the C results (double) on a spread of rays to float accuracy:
 //    flat and round earth, rays up, down and horizontal, finite and infinite segments, day and
 //    night (infinite air mass), the series branch of exprel and the closed form, and the pieces
-//    sl_sky_view_segment is made of (the ray's geometry, one wavelength's light and transparency).
+//    sl_sky_view_segment is made of (the ray's geometry, one wavelength's light and transparency)
+//    and those of the sun's disk (solid angle, the in-disk test, the disk's radiance).
 // Needs an X display (xvfb-run).
 #include <algorithm>
 #include <cmath>
@@ -48,6 +49,7 @@ const char *kShader = R"GLSL(//VTK::System::Dec
 #define SL_SKY_IN_ARRAY(name, n) in float name[n]
 #define SL_SKY_OUT_ARRAY(name, n) out float name[n]
 uniform float slInfinity;
+//SL::SunDiameter
 //SL::Sky
 uniform sampler2D cases; // texel (i, 0): x, z_eye, mu, distance; (i, 1): airmass, cos, ground radius, beta
 in vec2 texCoord;
@@ -71,6 +73,8 @@ void main()
   gl_FragData[2] = vec4(sl_sky_path_length_factor(gamma, a.z * 1000.0, 1000.0),
                         sl_sky_segment_radiance(b.w, 1.0, sl_sky_rayleigh_phase(b.y), gamma, a.z, near, b.x, g),
                         sl_sky_segment_transparency(b.w, g), g[3]);
+  gl_FragData[3] = vec4(sl_sun_disk_solid_angle(), float(sl_sky_in_sun_disk_at(a.x * 1.0e-3, a.z * 2.0e-3, 0.0, b.y)),
+                        sl_sky_sun_disk_light(1.0, b.w, gamma, a.y, b.x), 1.0);
 }
 )GLSL";
 
@@ -101,20 +105,23 @@ int main(int argc, char **argv)
   }
   std::string shader = kShader, why;
   shader.replace(shader.find("//SL::Sky"), 9, sl_shader_sky_sample_shared);
+  shader.replace(shader.find("//SL::SunDiameter"), 17,
+                 "#define SL_SUN_ANGULAR_DIAMETER_DEG " + std::to_string(SL_SUN_ANGULAR_DIAMETER_DEG));
   sl_test::CaseShader gpu;
-  if (!gpu.init(count, cases, shader, 3, &why)) {
+  if (!gpu.init(count, cases, shader, 4, &why)) {
     std::fprintf(stderr, "FAIL %s\n", why.c_str());
     return 1;
   }
   gpu.program()->SetUniformf("slInfinity", std::numeric_limits<float>::infinity());
-  std::vector<float> out[3];
+  std::vector<float> out[4];
   gpu.run(out);
-  const int nf = 12;
+  const int nf = 15;
   const char *names[nf] = {"exprel", "Rayleigh phase", "optical depth", "sun optical depth", "ground distance",
                            "segment length", "segment length factor", "in-scattering", "path length factor",
-                           "view-segment light", "view-segment transparency", "view-segment length factor"};
+                           "view-segment light", "view-segment transparency", "view-segment length factor",
+                           "sun disk solid angle", "in the sun's disk", "sun disk radiance"};
   double worst[nf] = {0};
-  int infinite = 0, series = 0, night = 0, lit = 0;
+  int infinite = 0, series = 0, night = 0, lit = 0, in_disk = 0;
   const double gamma = 1.0 / 8000.0;
   for (int i = 0; i < count; ++i) {
     // The C side takes the same float inputs the GPU read.
@@ -129,7 +136,10 @@ int main(int argc, char **argv)
                            segment,
                            sl_sky_segment_length_factor(gamma, a[2], segment),
                            sl_sky_inscatter(b[3], gamma, a[1], a[2], segment, b[0], b[1]),
-                           sl_sky_path_length_factor(gamma, a[2] * 1000.0, 1000.0), 0.0, 0.0, 0.0};
+                           sl_sky_path_length_factor(gamma, a[2] * 1000.0, 1000.0), 0.0, 0.0, 0.0,
+                           sl_sun_disk_solid_angle(),
+                           (double)sl_sky_in_sun_disk_at(a[0] * 1.0e-3f, a[2] * 2.0e-3f, 0.0, b[1]),
+                           sl_sky_sun_disk_light(1.0, b[3], gamma, a[1], b[0])};
     // The view-segment pieces over [near, end], near halfway to 1.5 km or to the ground.
     const float end = (float)segment, near = 0.5f * std::min(end, 3000.0f);
     double g[5];
@@ -139,7 +149,8 @@ int main(int argc, char **argv)
     cpu[11] = g[3];
     const double gpu[nf] = {out[0][4 * i], out[0][4 * i + 1], out[0][4 * i + 2], out[0][4 * i + 3],
                             out[1][4 * i], out[1][4 * i + 1], out[1][4 * i + 2], out[1][4 * i + 3],
-                            out[2][4 * i], out[2][4 * i + 1], out[2][4 * i + 2], out[2][4 * i + 3]};
+                            out[2][4 * i], out[2][4 * i + 1], out[2][4 * i + 2], out[2][4 * i + 3],
+                            out[3][4 * i], out[3][4 * i + 1], out[3][4 * i + 2]};
     for (int f = 0; f < nf; ++f) {
       // Float's own rounding through a few exponentials and a square root: 1e-5 relative (the
       // worst measured is 5e-6); absolute 1e-12 per unit irradiance for the in-scattering (a
@@ -157,11 +168,12 @@ int main(int argc, char **argv)
     series += std::fabs(a[0]) < 0.05;
     night += std::isinf(b[0]);
     lit += cpu[7] > 0.0;
+    in_disk += cpu[13] > 0.0;
   }
   for (int f = 0; f < nf; ++f) std::printf("%-26s worst relative difference %.2e\n", names[f], worst[f]);
-  std::printf("%d cases: %d rays missing the ground, %d in exprel's series, %d at night, %d lit\n", count, infinite,
-              series, night, lit);
-  if (infinite < 20 || series < 20 || night < 20 || lit < 100) {
+  std::printf("%d cases: %d rays missing the ground, %d in exprel's series, %d at night, %d lit, %d in the sun's disk\n",
+              count, infinite, series, night, lit, in_disk);
+  if (infinite < 20 || series < 20 || night < 20 || lit < 100 || in_disk < 20 || in_disk > count - 20) {
     std::fprintf(stderr, "FAIL the cases do not reach every branch\n");
     ++failures;
   }
