@@ -3,9 +3,9 @@
  * Everything here takes and returns scalars (double), uses no pointers, no varargs, no library
  * calls beyond exp/sqrt/abs and isinf (INFINITY for a ray that meets no ground): the bodies,
  * in sky_sample_shared.h, are one text that the C library compiles with double and the GPU
- * pass's shaders embed as GLSL (tests/gpu/test_gpu_sky checks that the two agree). Units: metres, m^-1; heights z are above sea level; the
- * direction cosine mu is the z component (up) of the unit view direction, p_Omega_y in the
- * paper.
+ * pass's shaders embed as GLSL (tests/gpu/test_gpu_sky checks that the two agree). Units:
+ * metres, m^-1; heights z are above sea level; the direction cosine mu is the z component (up)
+ * of the unit view direction, p_Omega_y in the paper.
  *
  * Night is encoded as an infinite air mass: every function here then returns zero light, never
  * NaN. See docs/SKY.md for the derivations. */

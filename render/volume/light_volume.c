@@ -71,7 +71,7 @@ typedef struct sweep_frame {
   int axis, a1, a2, step, first;
   double path;           /* from one plane to the next along the sunlight */
   double shift1, shift2; /* the in-plane shift that path brings, in samples */
-  double box_lo[3], box_hi[3];
+  sl__box_exit sun_exit; /* the way out of the box toward the sun */
 } sweep_frame;
 
 /* One thread's share of the sweep, plane after plane (each plane's loop binds to the caller's
@@ -84,7 +84,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
   const sl_light_model *m = &r->model;
   const int stride = nwl + 1, axis = f->axis, a1 = f->a1, a2 = f->a2, step = f->step;
   const int n[3] = {v->nx, v->ny, v->nz};
-  const double *p = f->p, *sun = r->scene.sun_direction;
+  const double *p = f->p;
   float *state = f->state;
   for (int kk = 0; kk < n[axis]; ++kk) {
     const int k = f->first + kk * step;
@@ -103,7 +103,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         if (kk == 0 || !plane_lookup(r, state, axis, k - step, ii + f->shift1, jj + f->shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
-          len = fmin(f->path, sl__distance_to_box_toward(f->box_lo, f->box_hi, x, sun));
+          len = fmin(f->path, sl__box_exit_distance(&f->sun_exit, x));
           if (kk == 0) len = 0.5 * v->spacing[axis] / fabs(p[axis]);
         }
         /* Fields at the middle of the path since the previous plane. */
@@ -149,7 +149,9 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   f.first = f.step > 0 ? 0 : n[f.axis] - 1;
   f.path = v->spacing[f.axis] / fabs(f.p[f.axis]);
   f.shift1 = -f.path * f.p[f.a1] / v->spacing[f.a1], f.shift2 = -f.path * f.p[f.a2] / v->spacing[f.a2];
-  sl_volume_bounds(v, f.box_lo, f.box_hi);
+  double box_lo[3], box_hi[3];
+  sl_volume_bounds(v, box_lo, box_hi);
+  sl__box_exit_init(&f.sun_exit, box_lo, box_hi, sun);
   const double t0 = omp_get_wtime();
   SL_RUN_SPECIALISED(sweep_planes, &f, r->model.nf, nwl);
   free(r->light_volume);
@@ -174,14 +176,7 @@ static inline __attribute__((always_inline)) void light_volume_sample(const sl_r
   const size_t sz = v->nz > 1 ? (size_t)v->nx * v->ny * stride : 0;
   const float *p = r->light_volume + lv_index(v, i0[0], i0[1], i0[2], stride);
   if (stride == 4) {
-    const float fx = (float)f[0], fy = (float)f[1], fz = (float)f[2];
-    const sl__v4f c00 = sl__load_v4f(p) + fx * (sl__load_v4f(p + sx) - sl__load_v4f(p));
-    const sl__v4f c10 = sl__load_v4f(p + sy) + fx * (sl__load_v4f(p + sy + sx) - sl__load_v4f(p + sy));
-    const sl__v4f c01 = sl__load_v4f(p + sz) + fx * (sl__load_v4f(p + sz + sx) - sl__load_v4f(p + sz));
-    const sl__v4f c11 =
-        sl__load_v4f(p + sz + sy) + fx * (sl__load_v4f(p + sz + sy + sx) - sl__load_v4f(p + sz + sy));
-    const sl__v4f c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
-    const sl__v4f value = c0 + fz * (c1 - c0);
+    const sl__v4f value = sl__trilinear_v4f(p, sx, sy, sz, (float)f[0], (float)f[1], (float)f[2]);
     for (int s = 0; s < 4; ++s) out[s] = value[s];
   } else {
     for (int s = 0; s < stride; ++s) {
@@ -210,10 +205,11 @@ static double empty_brick_exit(const sl_renderer *r, const double x[3], const do
   double best = INFINITY;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) continue;
-    /* The brick's cells are [8 b, 8 b + 8) in lattice units; the last brick also holds the
-     * clamped points beyond the last cell, up to the box's face. */
-    const double face = d[a] > 0.0 ? (b[a] + 1 == r->bricks[a] ? g->hi[a] : g->origin[a] + 8.0 * (b[a] + 1) / g->inv_spacing[a])
-                                   : (b[a] == 0 ? g->lo[a] : g->origin[a] + 8.0 * b[a] / g->inv_spacing[a]);
+    /* The brick's cells are [8 b, 8 b + 8) in lattice units; the first and last bricks reach
+     * the box's faces (the clamped points). */
+    const double upper = b[a] == sl__last_brick(g, a) ? g->hi[a] : g->origin[a] + 8.0 * (b[a] + 1) / g->inv_spacing[a];
+    const double lower = b[a] == 0 ? g->lo[a] : g->origin[a] + 8.0 * b[a] / g->inv_spacing[a];
+    const double face = d[a] > 0.0 ? upper : lower;
     const double t = (face - x[a]) / d[a];
     if (t < best) best = t;
   }

@@ -75,11 +75,6 @@ void sl_light_fraction(const sl_light_model *m, const float *beta, double n, dou
   sl_light_fraction_at(m, m->nf, m->nwl, beta, n, len, fraction);
 }
 
-void sl_light_step(const sl_light_model *m, const float *beta, double len, float *I, float *n)
-{
-  sl_light_step_at(m, m->nf, m->nwl, beta, len, I, n);
-}
-
 void sl_eye_phase(const sl_light_model *m, const float *beta, double n, int angle_index, double angle_weight,
                   double *out)
 {

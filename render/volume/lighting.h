@@ -34,14 +34,9 @@ void sl_light_model_free(sl_light_model *m);
  * field j at wavelength c, continuous in both (the "interpolating in n" that eq. 25 replaced). */
 double sl_log_forward_product(const sl_light_model *m, int j, int c, double n, double events);
 
-/* One light-buffer step through a slab chord: extinction per field beta[j] (m^-1), chord
- * length len (m). Updates the intensity per wavelength I[c] and the expected scattering count
- * *n (eqs. 21-22). Eq. 24 (continuous) or eq. 25 by the model's mode; the low-albedo model
- * multiplies by the transparency only. */
-void sl_light_step(const sl_light_model *m, const float *beta, double len, float *I, float *n);
-
 /* Intensity fraction left after a path `len` inside one slab for every wavelength, as
- * sl_light_step computes it, without updating anything (for the within-slab light). */
+ * sl_light_step_at (sl_sample_physics.h) applies it, without updating anything (for the
+ * within-slab light). */
 void sl_light_fraction(const sl_light_model *m, const float *beta, double n, double len, double *fraction);
 
 /* Eq. 26's angular term (Ams_{n+1} + xi) per wavelength at the sample: the fields' Ams tables

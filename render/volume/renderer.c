@@ -292,52 +292,9 @@ void sl_renderer_set_xi(sl_renderer *r, double xi)
   r->model.xi = xi;
 }
 
-/* Distance from a point inside the box back toward the sun to the box's boundary. */
-double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3])
-{
-  double best = INFINITY;
-  for (int i = 0; i < 3; ++i) {
-    if (dir[i] > 0.0) {
-      const double t = (hi[i] - x[i]) / dir[i];
-      if (t < best) best = t;
-    } else if (dir[i] < 0.0) {
-      const double t = (lo[i] - x[i]) / dir[i];
-      if (t < best) best = t;
-    }
-  }
-  return best > 0.0 ? best : 0.0;
-}
-
-/* sl__distance_to_box_toward with the direction's per-axis face and reciprocal prepared once per
- * frame (the eye pass asks twice per sample; six divisions there were a tenth of its time). */
-typedef struct box_exit {
-  double face[3], inv_dir[3];
-  int axis_used[3];
-} box_exit;
-
-static void box_exit_init(box_exit *b, const double lo[3], const double hi[3], const double dir[3])
-{
-  for (int i = 0; i < 3; ++i) {
-    b->axis_used[i] = dir[i] != 0.0;
-    b->face[i] = dir[i] > 0.0 ? hi[i] : lo[i];
-    b->inv_dir[i] = dir[i] != 0.0 ? 1.0 / dir[i] : 0.0;
-  }
-}
-
-static inline double box_exit_distance(const box_exit *b, const double x[3])
-{
-  double best = INFINITY;
-  for (int i = 0; i < 3; ++i)
-    if (b->axis_used[i]) {
-      const double t = (b->face[i] - x[i]) * b->inv_dir[i];
-      if (t < best) best = t;
-    }
-  return best > 0.0 ? best : 0.0;
-}
-
 /* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied 8^3
  * bricks, by a walk through the brick lattice (Amanatides & Woo); *first > *last when it crosses
- * none. Bricks are assigned as sl__sample_fields assigns a point (its lattice cell, clamped into
+ * none. Bricks are assigned as sl__sample_fields_n assigns a point (its lattice cell, clamped into
  * the grid, divided by 8), so every sample outside the span reads zero: slices there are
  * skipped without changing the image. */
 static void occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
@@ -350,7 +307,7 @@ static void occupied_span(const sl_renderer *r, const double o[3], const double 
   for (int a = 0; a < 3; ++a) {
     const double u = (o[a] + t0 * d[a] - g->origin[a]) * g->inv_spacing[a];
     const double du = d[a] * g->inv_spacing[a];
-    b_last[a] = g->n[a] > 1 ? (g->n[a] - 2) / 8 : 0;
+    b_last[a] = sl__last_brick(g, a);
     const double cell = u < 0.0 ? 0.0 : floor(u);
     b[a] = (int)fmin(cell / 8.0, (double)b_last[a]);
     if (b[a] < 0) b[a] = 0;
@@ -403,11 +360,6 @@ void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const doub
   img->transparency[q] = transparency;
   const double coverage = 1.0 - transparency;
   img->depth[q] = coverage > 1e-4 ? (float)(a[nwl + 1] / coverage) : INFINITY;
-}
-
-int sl__sample_fields(const sl_renderer *r, const double x[3], float *out)
-{
-  return sl__sample_fields_n(r, r->model.nf, x, out);
 }
 
 typedef struct light_buffer {
@@ -511,7 +463,7 @@ typedef struct slicer_frame {
   float *angle_weight;
   const sl_phase_table *grid_table;
   double fwd[3], right[3], up[3], h[3], prop[3];
-  box_exit sun_exit;
+  sl__box_exit sun_exit;
   double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
   int nslices, back_to_front;
   long eye_samples, light_samples;
@@ -541,7 +493,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   const sl_phase_table *grid_table = f->grid_table;
   const double *fwd = f->fwd, *right = f->right, *up = f->up, *h = f->h, *prop = f->prop;
   const double *sun = sc->sun_direction, *o = cam->position;
-  const box_exit sun_exit = f->sun_exit;
+  const sl__box_exit sun_exit = f->sun_exit;
   const double tan_half = f->tan_half, aspect = f->aspect, h_o = f->h_o, hp = f->hp, inv_hp = f->inv_hp;
   const double smin = f->smin, ds = f->ds;
   const int nslices = f->nslices, back_to_front = f->back_to_front;
@@ -649,9 +601,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
         const double s_start = sk - 0.5 * ds;
         const double path_near = fmax(0.0, fmin((sl__dot3(h, x_near) - s_start) * inv_hp,
-                                                box_exit_distance(&sun_exit, x_near)));
+                                                sl__box_exit_distance(&sun_exit, x_near)));
         const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) * inv_hp,
-                                               box_exit_distance(&sun_exit, x_far)));
+                                               sl__box_exit_distance(&sun_exit, x_far)));
         const double inv_beta = 1.0 / beta;
         const double light_rate = (path_far - path_near) / len;
         double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
@@ -676,8 +628,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double depth = mid * sl__dot3(rq, fwd);
         float *a = acc + q * acc_stride;
         const double w = back_to_front ? 1.0 : a[nwl];
-        /* The sample's logarithms and exponentials for every wavelength at once (vector_math.h). */
-        /* GCC vectorises a loop with calls only when it holds no branch: three loops. */
+        /* The sample's logarithms and exponentials for every wavelength at once (vector_math.h),
+         * in three loops: GCC vectorises a loop with calls only when it holds no branch. */
         double log_kept[SL_MAX_WAVELENGTHS], slab_extinction[SL_MAX_WAVELENGTHS], rate[SL_MAX_WAVELENGTHS],
             segment_exp[SL_MAX_WAVELENGTHS], near_exp[SL_MAX_WAVELENGTHS];
 #pragma omp simd
@@ -724,7 +676,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const size_t t = (size_t)ty * L.w + tx;
         if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
         double mid, len;
-        if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len)) continue;
+        if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len))
+          continue;
         const int i = tx, j = ty;
         const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
@@ -809,8 +762,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const double ds = (smax - smin) / nslices;
   const double hp = sl__dot3(h, prop); /* > 0 by construction */
   const double inv_hp = 1.0 / hp;
-  box_exit sun_exit;
-  box_exit_init(&sun_exit, r->clo, r->chi, sun);
+  sl__box_exit sun_exit;
+  sl__box_exit_init(&sun_exit, r->clo, r->chi, sun);
 
   /* Light buffer: an orthographic grid perpendicular to the sunlight covering the box. */
   light_buffer L = {0};

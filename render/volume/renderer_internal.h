@@ -3,6 +3,7 @@
 #ifndef SL_RENDERER_INTERNAL_H
 #define SL_RENDERER_INTERNAL_H
 
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -49,8 +50,34 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
                         const double hi[3]);
 /* The sunlight at world point x: the table at x's altitude. */
 void sl__sun_at(const sun_table *t, const double x[3], double *out);
-double sl__distance_to_box_toward(const double lo[3], const double hi[3], const double x[3], const double dir[3]);
-int sl__sample_fields(const sl_renderer *r, const double x[3], float *out);
+
+/* Distance from a point inside the box [lo, hi] along dir to the box's boundary, with the face
+ * each axis leaves through and its reciprocal prepared once (the slicer's eye pass asks twice per
+ * sample toward the sun; six divisions there were a tenth of its time). */
+typedef struct sl__box_exit {
+  double face[3], inv_dir[3];
+  int axis_used[3];
+} sl__box_exit;
+
+static inline void sl__box_exit_init(sl__box_exit *b, const double lo[3], const double hi[3], const double dir[3])
+{
+  for (int i = 0; i < 3; ++i) {
+    b->axis_used[i] = dir[i] != 0.0;
+    b->face[i] = dir[i] > 0.0 ? hi[i] : lo[i];
+    b->inv_dir[i] = dir[i] != 0.0 ? 1.0 / dir[i] : 0.0;
+  }
+}
+
+static inline double sl__box_exit_distance(const sl__box_exit *b, const double x[3])
+{
+  double best = INFINITY;
+  for (int i = 0; i < 3; ++i)
+    if (b->axis_used[i]) {
+      const double t = (b->face[i] - x[i]) * b->inv_dir[i];
+      if (t < best) best = t;
+    }
+  return best > 0.0 ? best : 0.0;
+}
 
 /* The lattice cell holding x (clamped into the grid, the rule of sl_grid_sample): its lower
  * corner i0 and the fractions f within it. */
@@ -73,6 +100,10 @@ static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3])
 {
   return r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
 }
+
+/* The last 8^3 brick along axis a that a point can fall in: cells stop at n - 2 (the clamp of
+ * sl__lattice_cell), so that brick also holds the points up to the box's face. */
+static inline int sl__last_brick(const sl_grid_view *g, int a) { return g->n[a] > 1 ? (g->n[a] - 2) / 8 : 0; }
 
 /* Runs BODY(f, nf, nwl) inside one OpenMP parallel region, with the model's field count nf and
  * wavelength count nwl as constants for the pairs the passes are compiled for (one to four
@@ -105,6 +136,19 @@ static inline sl__v4f sl__load_v4f(const float *p)
   return v;
 }
 
+/* Trilinear interpolation of four interleaved floats at the cell whose lower corner is c (the
+ * neighbours sx, sy, sz floats apart; 0 along an axis of one sample), fractions fx, fy, fz. */
+static inline __attribute__((always_inline)) sl__v4f sl__trilinear_v4f(const float *c, size_t sx, size_t sy, size_t sz,
+                                                                     float fx, float fy, float fz)
+{
+  const sl__v4f c00 = sl__load_v4f(c) + fx * (sl__load_v4f(c + sx) - sl__load_v4f(c));
+  const sl__v4f c10 = sl__load_v4f(c + sy) + fx * (sl__load_v4f(c + sy + sx) - sl__load_v4f(c + sy));
+  const sl__v4f c01 = sl__load_v4f(c + sz) + fx * (sl__load_v4f(c + sz + sx) - sl__load_v4f(c + sz));
+  const sl__v4f c11 = sl__load_v4f(c + sz + sy) + fx * (sl__load_v4f(c + sz + sy + sx) - sl__load_v4f(c + sz + sy));
+  const sl__v4f c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
+  return c0 + fz * (c1 - c0);
+}
+
 /* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample, in
  * float); returns 0 and zeros outside the box or in an empty brick. nf is r->model.nf, passed
  * apart so that the specialised passes give it as a constant. The field array is padded by four
@@ -129,15 +173,7 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
   const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
   const float *c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
-  const float fx = (float)f[0], fy = (float)f[1], fz = (float)f[2];
-  const sl__v4f c000 = sl__load_v4f(c), c100 = sl__load_v4f(c + sx);
-  const sl__v4f c010 = sl__load_v4f(c + sy), c110 = sl__load_v4f(c + sy + sx);
-  const sl__v4f c001 = sl__load_v4f(c + sz), c101 = sl__load_v4f(c + sz + sx);
-  const sl__v4f c011 = sl__load_v4f(c + sz + sy), c111 = sl__load_v4f(c + sz + sy + sx);
-  const sl__v4f c00 = c000 + fx * (c100 - c000), c10 = c010 + fx * (c110 - c010);
-  const sl__v4f c01 = c001 + fx * (c101 - c001), c11 = c011 + fx * (c111 - c011);
-  const sl__v4f c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
-  const sl__v4f v = c0 + fz * (c1 - c0);
+  const sl__v4f v = sl__trilinear_v4f(c, sx, sy, sz, (float)f[0], (float)f[1], (float)f[2]);
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }

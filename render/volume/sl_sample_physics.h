@@ -46,7 +46,8 @@
 #define SL_OUT_ARRAY(T, name, n) T name[n]
 /* The model: one pointer in C, uniforms in GLSL. In C the field and wavelength counts travel
  * beside it (m->nf, m->nwl, or constants where the caller is specialised for them). */
-#define SL_MODEL_PARAM const sl_light_model *m, __attribute__((unused)) const int sl_nf, __attribute__((unused)) const int sl_nwl,
+#define SL_UNUSED __attribute__((unused))
+#define SL_MODEL_PARAM const sl_light_model *m, SL_UNUSED const int sl_nf, SL_UNUSED const int sl_nwl,
 #define SL_MODEL_ARG m, sl_nf, sl_nwl,
 #define SL_NF (sl_nf)
 #define SL_NWL (sl_nwl)
@@ -220,9 +221,11 @@ SL_INLINE void sl_segment_scatter_moments_exp(SL_REAL beta, SL_REAL len, SL_REAL
     /* Taylor series to x^6 (truncation below 2e-9): the closed form of result[1] cancels to second
      * order near x = 0, which in float costs 1e-3 of relative accuracy already at x = 1e-2. */
     result[0] = beta * len *
-             (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x * (1.0 / 720.0 - x * (1.0 / 5040.0)))))));
+                (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 -
+                                                                                x * (1.0 / 720.0 - x * (1.0 / 5040.0)))))));
     result[1] = beta * len *
-             (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 - x * (1.0 / 840.0 - x * (1.0 / 5760.0)))))));
+                (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 -
+                                                                                x * (1.0 / 840.0 - x * (1.0 / 5760.0)))))));
     return;
   }
   result[0] = beta * len * (1.0 - e) / x;
