@@ -120,7 +120,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         }
         float I[SL_MAX_WAVELENGTHS], nn = (float)prev[nwl];
         for (int c = 0; c < nwl; ++c) I[c] = (float)exp(prev[c]);
-        sl_light_step_at(m, nf, nwl, beta, len, I, &nn);
+        sl_light_step_at(m, (int)m->mode, nf, nwl, beta, len, I, &nn);
         for (int c = 0; c < nwl; ++c) out[c] = I[c] > 0.0f ? fmaxf(logf(I[c]), LOG_FLOOR) : LOG_FLOOR;
         out[nwl] = nn;
       }
@@ -315,7 +315,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         }
         light_volume_sample(r, nwl, xb, l1);
         double phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS], moments[2];
-        sl_eye_phase_at(m, nf, nwl, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
+        sl_eye_phase_at(m, (int)m->mode, nf, nwl, beta_j, 0.5 * (l0[nwl] + l1[nwl]), angle_index, angle_weight, phase);
         sl__sun_at(suntab, x, sunlight);
         /* The light is linear between the segment's ends (the light volume holds it at every
          * point): the slicer's closed-form gather with no extra in-segment attenuation. One

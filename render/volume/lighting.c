@@ -67,16 +67,16 @@ void sl_light_model_free(sl_light_model *m)
 
 double sl_log_forward_product(const sl_light_model *m, int j, int c, double n, double events)
 {
-  return sl_log_forward_product_at(m, m->nf, m->nwl, j, c, n, events);
+  return sl_log_forward_product_at(m, (int)m->mode, m->nf, m->nwl, j, c, n, events);
 }
 
 void sl_light_fraction(const sl_light_model *m, const float *beta, double n, double len, double *fraction)
 {
-  sl_light_fraction_at(m, m->nf, m->nwl, beta, n, len, fraction);
+  sl_light_fraction_at(m, (int)m->mode, m->nf, m->nwl, beta, n, len, fraction);
 }
 
 void sl_eye_phase(const sl_light_model *m, const float *beta, double n, int angle_index, double angle_weight,
                   double *out)
 {
-  sl_eye_phase_at(m, m->nf, m->nwl, beta, n, angle_index, angle_weight, out);
+  sl_eye_phase_at(m, (int)m->mode, m->nf, m->nwl, beta, n, angle_index, angle_weight, out);
 }

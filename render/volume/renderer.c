@@ -427,6 +427,27 @@ static void light_lookup(const light_buffer *L, const double x[3], double *out)
   }
 }
 
+/* The light steps of one tile's samples in a slice (sl_light_step_at's two lines), gathered
+ * first so that the loop over them vectorises: sample i is texel idx[i], chord seg[i], per-field
+ * extinction bj[i]. The texels of a tile are distinct, so the iterations are independent (ivdep);
+ * the state is addressed by int offsets, which GCC turns into gathers and scatters. */
+static inline __attribute__((always_inline)) void light_steps(const sl_light_model *m, const int mode, const int nf,
+                                                              const int nwl, const int cnt, const int *idx,
+                                                              const double *seg, const float (*bj)[SL_MAX_FIELDS],
+                                                              float *state, const int stride)
+{
+#pragma GCC ivdep
+  for (int i = 0; i < cnt; ++i) {
+    const int o = idx[i] * stride;
+    const double n = state[o + nwl];
+    double fraction[SL_MAX_WAVELENGTHS];
+    sl_light_fraction_at(m, mode, nf, nwl, bj[i], n, seg[i], fraction);
+#pragma GCC unroll 16
+    for (int c = 0; c < nwl; ++c) state[o + c] = (float)(state[o + c] * fraction[c]);
+    if (mode != SL_LIGHTING_LOW_ALBEDO) state[o + nwl] = (float)sl_expected_scatter_count(m, mode, nf, nwl, bj[i], n, seg[i]);
+  }
+}
+
 /* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
 int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
 {
@@ -615,14 +636,14 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double n_here = 0.5 * (l0[nwl] + l1[nwl]);
         double kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
         const double probe = fmax(path_mid, 1e-3 * inv_beta), inv_probe = 1.0 / probe;
-        sl_light_fraction_at(m, nf, nwl, beta_j, n_here, probe, kept);
+        sl_light_fraction_at(m, (int)m->mode, nf, nwl, beta_j, n_here, probe, kept);
         double n_sample = n_here;
         if (m->mode != SL_LIGHTING_LOW_ALBEDO) {
           double events = 0.0;
           for (int j = 0; j < nf; ++j) events += m->albedo_mean[j] * beta_j[j];
           n_sample += events * path_mid;
         }
-        sl_eye_phase_at(m, nf, nwl, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
+        sl_eye_phase_at(m, (int)m->mode, nf, nwl, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
         sl__sun_at(suntab, x, sunlight);
         const double opacity = -expm1(-beta * len);
         const double depth = mid * sl__dot3(rq, fwd);
@@ -671,6 +692,10 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       for (size_t ti = 0; ti < n_light_tiles; ++ti) {
         if (k < light_tiles.k[2 * ti] || k > light_tiles.k[2 * ti + 1]) continue;
         const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
+        int cnt = 0;
+        int idx[TILE * TILE];
+        double seg[TILE * TILE];
+        float bj[TILE * TILE][SL_MAX_FIELDS];
         for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty)
         for (int tx = tx0; tx < tx0 + TILE && tx < L.w; ++tx) {
         const size_t t = (size_t)ty * L.w + tx;
@@ -685,11 +710,20 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         float beta_j[SL_MAX_FIELDS];
         sl__sample_fields_n(r, nf, x, beta_j);
         light_samples++;
-        float *st = L.state + t * L.stride;
         double beta = 0.0;
         for (int f = 0; f < nf; ++f) beta += beta_j[f];
-        if (beta > 0.0) sl_light_step_at(m, nf, nwl, beta_j, len, st, st + nwl);
+        if (beta > 0.0) {
+          idx[cnt] = (int)t, seg[cnt] = len;
+          for (int f = 0; f < nf; ++f) bj[cnt][f] = beta_j[f];
+          cnt++;
         }
+        }
+        if (m->mode == SL_LIGHTING_MULTIPLE)
+          light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
+        else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
+          light_steps(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
+        else
+          light_steps(m, (int)m->mode, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
       }
 #pragma omp master
       {

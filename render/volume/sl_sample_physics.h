@@ -17,6 +17,7 @@
 #ifndef SL_GLSL
 /* ---- C ---- */
 #include <math.h>
+#include <stdbool.h>
 
 #include "lighting.h"
 
@@ -39,6 +40,7 @@
 /* Always inlined: the renderer's passes are compiled once per field and wavelength count
  * (renderer.c), and the counts reach these loops as constants only through inlining. */
 #define SL_INLINE static inline __attribute__((always_inline))
+#define SL_UNROLL _Pragma("GCC unroll 16")
 #define SL_INT(x) ((int)(x))
 #define SL_MIN_INT(a, b) ((a) < (b) ? (a) : (b))
 #define SL_TO_REAL(x) ((SL_REAL)(x))
@@ -47,11 +49,12 @@
 /* The model: one pointer in C, uniforms in GLSL. In C the field and wavelength counts travel
  * beside it (m->nf, m->nwl, or constants where the caller is specialised for them). */
 #define SL_UNUSED __attribute__((unused))
-#define SL_MODEL_PARAM const sl_light_model *m, SL_UNUSED const int sl_nf, SL_UNUSED const int sl_nwl,
-#define SL_MODEL_ARG m, sl_nf, sl_nwl,
+#define SL_MODEL_PARAM \
+  const sl_light_model *m, SL_UNUSED const int sl_mode, SL_UNUSED const int sl_nf, SL_UNUSED const int sl_nwl,
+#define SL_MODEL_ARG m, sl_mode, sl_nf, sl_nwl,
 #define SL_NF (sl_nf)
 #define SL_NWL (sl_nwl)
-#define SL_MODE (m->mode)
+#define SL_MODE (sl_mode)
 #define SL_XI (m->xi)
 #define SL_ALBEDO_MEAN(j) (m->albedo_mean[j])
 #define SL_ALBEDO(j, c) (m->albedo[j][c])
@@ -72,6 +75,7 @@
 #define sl_ceil ceil
 #define sl_pow pow
 #define SL_INLINE
+#define SL_UNROLL
 #define SL_INT(x) int(x)
 #define SL_MIN_INT(a, b) min(a, b)
 #define SL_TO_REAL(x) float(x)
@@ -87,6 +91,7 @@
 SL_INLINE SL_REAL sl_scattering_per_metre(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS))
 {
   SL_REAL total = 0.0;
+  SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) total += SL_ALBEDO_MEAN(j) * beta[j];
   return total;
 }
@@ -124,18 +129,28 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
                                     SL_OUT_ARRAY(SL_REAL, fraction, SL_MAX_WAVELENGTHS))
 {
   SL_REAL ext = 0.0;
+  SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) ext += beta[j];
   SL_REAL transparency = sl_exp(-ext * len);
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
   SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0;
-  if (SL_MODE == SL_MODE_LOW_ALBEDO || !(ext > 0.0) || !(rate > 0.0)) {
+  if (SL_MODE == SL_MODE_LOW_ALBEDO) {
+    SL_UNROLL
     for (int c = 0; c < SL_NWL; ++c) fraction[c] = transparency;
     return;
   }
+  /* Without a scatterer here the light keeps only the transparency. A selection rather than an
+   * early return, with every table look-up unconditional, so that the CPU's loop over a slice's
+   * samples vectorises (the mode is the same for all samples: the CPU compiles a loop per mode). */
+  bool scatters = ext > 0.0 && rate > 0.0;
   /* Each field's share of the events, albedo_j beta_j / rate (the same at every wavelength). */
   SL_REAL share[SL_MAX_FIELDS];
+  SL_UNROLL
+  for (int j = 0; j < SL_MAX_FIELDS; ++j) share[j] = 0.0;
+  SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) share[j] = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
+  SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) {
     SL_REAL kept;
     if (SL_MODE == SL_MODE_EQ25) {
@@ -143,6 +158,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
        * slab's scattering count (the paper's GPU workaround). */
       int order = SL_INT(sl_floor(n + 1.0 + events));
       SL_REAL f = 0.0, a = 0.0;
+      SL_UNROLL
       for (int j = 0; j < SL_NF; ++j) {
         int N = SL_MAX_ORDER(j, c);
         f += share[j] * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
@@ -151,15 +167,19 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
       kept = sl_pow(a * f, events);
     } else {
       /* Eq. 24 with a mix: each field's product weighted geometrically by its share of the
-       * events (exact for one field; a mix along a path has no exact per-field split). */
+       * events (exact for one field; a mix along a path has no exact per-field split). A field
+       * without a share adds nothing (its product may be -inf where a table's F_i is 0). */
       SL_REAL log_kept = 0.0;
-      for (int j = 0; j < SL_NF; ++j)
-        if (share[j] > 0.0) log_kept += share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
+      SL_UNROLL
+      for (int j = 0; j < SL_NF; ++j) {
+        SL_REAL term = share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
+        log_kept += share[j] > 0.0 ? term : 0.0;
+      }
       kept = sl_exp(log_kept);
     }
     /* Eq. 24: what passes unscattered, plus the scattered part that stays in the forward
      * hemisphere through every event of the slab. */
-    fraction[c] = transparency + (1.0 - transparency) * kept;
+    fraction[c] = transparency + (1.0 - transparency) * (scatters ? kept : 0.0);
   }
 }
 
@@ -172,6 +192,7 @@ SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FI
 {
   if (SL_MODE == SL_MODE_LOW_ALBEDO) {
     SL_REAL isotropic = sl_scattering_per_metre(SL_MODEL_ARG beta) / (4.0 * SL_PI);
+    SL_UNROLL
     for (int c = 0; c < SL_NWL; ++c) result[c] = isotropic;
     return;
   }
@@ -179,8 +200,10 @@ SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FI
   SL_REAL order = n + 1.0;
   int k = SL_INT(sl_floor(order));
   SL_REAL f = order - SL_TO_REAL(k);
+  SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) {
     SL_REAL sum = 0.0;
+    SL_UNROLL
     for (int j = 0; j < SL_NF; ++j) {
       if (!(beta[j] > 0.0)) continue;
       int N = SL_MAX_ORDER(j, c);
@@ -246,6 +269,7 @@ SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], 
 {
   SL_REAL fraction[SL_MAX_WAVELENGTHS];
   sl_light_fraction_at(SL_MODEL_ARG beta, *n, len, fraction);
+  SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) I[c] = (float)(I[c] * fraction[c]);
   if (SL_MODE != SL_MODE_LOW_ALBEDO) *n = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, *n, len);
 }
