@@ -752,10 +752,23 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   f->light_samples += light_samples;
 }
 
+#ifdef SL_WIDE_TARGET
+SL_WIDE_TARGET static void slicer_run_wide(slicer_frame *f)
+{
+  SL_RUN_SPECIALISED(slicer_passes, f, f->r->model.nf, f->r->model.nwl);
+}
+#endif
+
 static void slicer_run(slicer_frame *f)
 {
   f->eye_samples = f->light_samples = 0;
   f->eye_seconds = f->light_seconds = 0.0;
+#ifdef SL_WIDE_TARGET
+  if (sl__wide_isa(&f->r->scene)) {
+    slicer_run_wide(f);
+    return;
+  }
+#endif
   SL_RUN_SPECIALISED(slicer_passes, f, f->r->model.nf, f->r->model.nwl);
 }
 

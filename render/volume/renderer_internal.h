@@ -125,6 +125,22 @@ static inline int sl__last_brick(const sl_grid_view *g, int a) { return g->n[a] 
     break; \
   }
 
+/* The passes are compiled twice: for baseline x86-64 and, beside it, for AVX-512 (eight doubles
+ * per vector in the loops GCC vectorises across samples), chosen at run time by sl__wide_isa.
+ * The wide copy is the same text: an always-inlined pass body may be inlined into a function of
+ * a wider target, and OpenMP's outlined regions keep their parent's target. sl_volume builds
+ * with -ffp-contract=off, so neither copy fuses a multiply and an add: both round alike, and
+ * only libmvec's exp and log (each within 4 ulp) may differ in the last bits. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define SL_WIDE_TARGET __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt")))
+static inline int sl__wide_isa(const sl_scene *sc)
+{
+  __builtin_cpu_init();
+  return !sc->baseline_isa && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw");
+}
+#endif
+
 /* Four floats as one value: the fields of a lattice sample (at most four, interleaved) are one
  * 16-byte load, and the seven lerps of a trilinear look-up run on all fields at once. */
 typedef float sl__v4f __attribute__((vector_size(16)));

@@ -59,6 +59,9 @@ typedef struct sl_scene {
   /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 2). Fewer is faster
    * in proportion and coarser on optically thick surfaces (docs/ACCURACY.md). */
   int march_samples;
+  /* 1: run the passes' baseline x86-64 code even where the CPU offers AVX-512 (for comparing the
+   * two builds of the same loops: speed, and that the images agree); 0: the widest the CPU has. */
+  int baseline_isa;
   /* Called from one thread after each slice with the fraction done; may be NULL. */
   void (*progress)(void *user, double fraction);
   void *progress_user;

@@ -151,13 +151,15 @@ int main(int argc, char **argv)
     const char *name;
     sl_lighting lighting;
     int spectral, size, slices, light_volume;
+    int baseline_isa = 0;  // 1: the passes' baseline x86-64 copy even where AVX-512 is there
   };
   std::vector<Case> cases = {{"low-albedo", SL_LIGHTING_LOW_ALBEDO, 0, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0},
                              {"light volume, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1},
                              {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 768, 512, 0},
-                             {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 768, 512, 0}};
+                             {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 768, 512, 0},
+                             {"3 wl, x86-64 base", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 1}};
   if (quick) cases.resize(3);
   if (!only.empty()) {
     // --only 2,3: the listed cases (1-based), for profiling one configuration.
@@ -170,8 +172,8 @@ int main(int argc, char **argv)
     }
     cases = keep_cases;
   }
-  double frame_512_ms = 0.0, lv_eye_ms = 0.0;
-  sl_image keep{};
+  double frame_512_ms = 0.0, lv_eye_ms = 0.0, base_512_ms = 0.0;
+  sl_image keep{}, keep_base{};
   std::printf("%-18s %9s %7s %12s %10s %10s %10s %8s\n", "lighting", "image", "slices", "light buffer", "light s",
               "eye s", "frame s", "fps");
   for (const Case &c : cases) {
@@ -184,10 +186,13 @@ int main(int argc, char **argv)
     sc.termination_transparency = 1e-6;
     sc.light_volume = c.light_volume;
     sc.march_samples = march_samples;  // the light-volume rows' eye samples per cell (0: the default, 2)
+    sc.baseline_isa = c.baseline_isa;
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
     const bool slicer_512 = c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume;
-    const Timing t = time_frames(sc, c.size, repeat, slicer_512 ? &keep : nullptr);
-    if (c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume) frame_512_ms = 1e3 * t.frame;
+    const Timing t =
+        time_frames(sc, c.size, repeat, slicer_512 ? (c.baseline_isa ? &keep_base : &keep) : nullptr);
+    if (slicer_512 && !c.baseline_isa) frame_512_ms = 1e3 * t.frame;
+    if (slicer_512 && c.baseline_isa) base_512_ms = 1e3 * t.frame;
     char image[32], buffer[32];
     std::snprintf(image, sizeof image, "%dx%d", c.size, c.size);
     std::snprintf(buffer, sizeof buffer, "%dx%d", t.lw, t.lh);
@@ -201,6 +206,14 @@ int main(int argc, char **argv)
                   1e-6 * t.eye_samples, t.cpu);
     if (c.light_volume) lv_eye_ms = 1e3 * t.eye;
   }
+  if (base_512_ms > 0.0 && frame_512_ms > 0.0 && keep.rgba && keep_base.rgba) {
+    // The two instruction sets run the same loops: they may differ only by libmvec's last bits.
+    sl_image_metrics im{};
+    sl_image_compare(&keep, &keep_base, &im, &err);
+    std::printf("ratio 3 wl frame, baseline x86-64 / widest ISA here: %.2f (images: relative RMSE %.2g, max |diff| %.2g)\n",
+                base_512_ms / frame_512_ms, im.relative_rmse, im.max_abs_diff);
+  }
+  sl_image_free(&keep_base);
   t0 = sl::now_seconds();
   sl_write_exr("/tmp/bench_render.exr", &keep, SL_EXR_HALF, &err);
   std::printf("write EXR 512x512: %.3f s\n", sl::now_seconds() - t0);
