@@ -118,11 +118,12 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
           out[nwl] = (float)prev[nwl];
           continue;
         }
-        float I[SL_MAX_WAVELENGTHS], nn = (float)prev[nwl];
-        for (int c = 0; c < nwl; ++c) I[c] = (float)exp(prev[c]);
-        sl_light_step_at(m, (int)m->mode, nf, nwl, beta, len, I, &nn);
-        for (int c = 0; c < nwl; ++c) out[c] = I[c] > 0.0f ? fmaxf(logf(I[c]), LOG_FLOOR) : LOG_FLOOR;
-        out[nwl] = nn;
+        float st[SL_MAX_WAVELENGTHS + 1]; /* I per wavelength, n */
+        for (int c = 0; c < nwl; ++c) st[c] = (float)exp(prev[c]);
+        st[nwl] = (float)prev[nwl];
+        sl_light_step_at(m, (int)m->mode, nf, nwl, beta, len, st, 0);
+        for (int c = 0; c < nwl; ++c) out[c] = st[c] > 0.0f ? fmaxf(logf(st[c]), LOG_FLOOR) : LOG_FLOOR;
+        out[nwl] = st[nwl];
       }
   }
 }
@@ -377,6 +378,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
     stats->light_seconds = r->light_volume_seconds;
     stats->eye_samples = samples;
     stats->night = view.night;
+    stats->wide_isa = 0; /* the march and sweep run baseline only (docs/PERFORMANCE.md) */
     stats->light_width = r->shape.nx, stats->light_height = r->shape.ny;
   }
   free(suntab);

@@ -427,25 +427,16 @@ static void light_lookup(const light_buffer *L, const double x[3], double *out)
   }
 }
 
-/* The light steps of one tile's samples in a slice (sl_light_step_at's two lines), gathered
- * first so that the loop over them vectorises: sample i is texel idx[i], chord seg[i], per-field
- * extinction bj[i]. The texels of a tile are distinct, so the iterations are independent (ivdep);
- * the state is addressed by int offsets, which GCC turns into gathers and scatters. */
+/* The light steps of one tile's samples in a slice, collected first so that the loop over them
+ * vectorises: sample i is texel idx[i], chord seg[i], per-field extinction bj[i]. The texels of a
+ * tile are distinct, so the iterations are independent (ivdep). */
 static inline __attribute__((always_inline)) void light_steps(const sl_light_model *m, const int mode, const int nf,
                                                               const int nwl, const int cnt, const int *idx,
-                                                              const double *seg, const float (*bj)[SL_MAX_FIELDS],
+                                                              const double *seg, float (*bj)[SL_MAX_FIELDS],
                                                               float *state, const int stride)
 {
 #pragma GCC ivdep
-  for (int i = 0; i < cnt; ++i) {
-    const int o = idx[i] * stride;
-    const double n = state[o + nwl];
-    double fraction[SL_MAX_WAVELENGTHS];
-    sl_light_fraction_at(m, mode, nf, nwl, bj[i], n, seg[i], fraction);
-#pragma GCC unroll 16
-    for (int c = 0; c < nwl; ++c) state[o + c] = (float)(state[o + c] * fraction[c]);
-    if (mode != SL_LIGHTING_LOW_ALBEDO) state[o + nwl] = (float)sl_expected_scatter_count(m, mode, nf, nwl, bj[i], n, seg[i]);
-  }
+  for (int i = 0; i < cnt; ++i) sl_light_step_at(m, mode, nf, nwl, bj[i], seg[i], state, idx[i] * stride);
 }
 
 /* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
@@ -486,7 +477,7 @@ typedef struct slicer_frame {
   double fwd[3], right[3], up[3], h[3], prop[3];
   sl__box_exit sun_exit;
   double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
-  int nslices, back_to_front;
+  int nslices, back_to_front, wide_isa;
   long eye_samples, light_samples;
   double light_seconds, eye_seconds;
 } slicer_frame;
@@ -637,12 +628,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         double kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
         const double probe = fmax(path_mid, 1e-3 * inv_beta), inv_probe = 1.0 / probe;
         sl_light_fraction_at(m, (int)m->mode, nf, nwl, beta_j, n_here, probe, kept);
-        double n_sample = n_here;
-        if (m->mode != SL_LIGHTING_LOW_ALBEDO) {
-          double events = 0.0;
-          for (int j = 0; j < nf; ++j) events += m->albedo_mean[j] * beta_j[j];
-          n_sample += events * path_mid;
-        }
+        const double n_sample = m->mode != SL_LIGHTING_LOW_ALBEDO
+                                    ? sl_expected_scatter_count(m, (int)m->mode, nf, nwl, beta_j, n_here, path_mid)
+                                    : n_here;
         sl_eye_phase_at(m, (int)m->mode, nf, nwl, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
         sl__sun_at(suntab, x, sunlight);
         const double opacity = -expm1(-beta * len);
@@ -719,11 +707,11 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         }
         if (m->mode == SL_LIGHTING_MULTIPLE)
-          light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
+          light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
         else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
-          light_steps(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
+          light_steps(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
         else
-          light_steps(m, (int)m->mode, nf, nwl, cnt, idx, seg, (const float(*)[SL_MAX_FIELDS])bj, L.state, L.stride);
+          light_steps(m, (int)m->mode, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
       }
 #pragma omp master
       {
@@ -763,8 +751,10 @@ static void slicer_run(slicer_frame *f)
 {
   f->eye_samples = f->light_samples = 0;
   f->eye_seconds = f->light_seconds = 0.0;
+  f->wide_isa = 0;
 #ifdef SL_WIDE_TARGET
   if (sl__wide_isa(&f->r->scene)) {
+    f->wide_isa = 1;
     slicer_run_wide(f);
     return;
   }
@@ -905,6 +895,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     stats->eye_samples = eye_samples;
     stats->light_samples = light_samples;
     stats->night = view.night;
+    stats->wide_isa = f.wide_isa;
   }
   free(suntab);
   free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);

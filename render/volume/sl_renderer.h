@@ -89,6 +89,7 @@ typedef struct sl_render_stats {
   double light_seconds, eye_seconds; /* summed over the frame's slices */
   int slices, light_width, light_height;
   long eye_samples, light_samples;   /* samples that touched the volume's box */
+  int wide_isa;                      /* 1: the passes ran their AVX-512 copy (sl_scene.baseline_isa) */
 } sl_render_stats;
 
 typedef struct sl_renderer sl_renderer;

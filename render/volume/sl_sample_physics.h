@@ -262,16 +262,19 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
 }
 
 #ifndef SL_GLSL
-/* C only (it updates through pointers): one light-buffer step through a chord len of a sample
- * with per-field extinction beta: I[c] times eq. 24's (or 25's) fraction, and n grown by eq. 21.
- * The GPU sweep writes the same two lines in GLSL around sl_light_fraction_at. */
-SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *I, float *n)
+/* C only (it updates through a pointer): one light-buffer step through a chord len of a sample
+ * with per-field extinction beta, on the state at state[o...]: I per wavelength times eq. 24's (or
+ * 25's) fraction, then n grown by eq. 21. The state is reached by an int offset so that a loop of
+ * these steps over scattered texels vectorises (gathers and scatters). The GPU sweep writes the
+ * same two lines in GLSL around sl_light_fraction_at. */
+SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *state, int o)
 {
+  SL_REAL n = state[o + SL_NWL];
   SL_REAL fraction[SL_MAX_WAVELENGTHS];
-  sl_light_fraction_at(SL_MODEL_ARG beta, *n, len, fraction);
+  sl_light_fraction_at(SL_MODEL_ARG beta, n, len, fraction);
   SL_UNROLL
-  for (int c = 0; c < SL_NWL; ++c) I[c] = (float)(I[c] * fraction[c]);
-  if (SL_MODE != SL_MODE_LOW_ALBEDO) *n = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, *n, len);
+  for (int c = 0; c < SL_NWL; ++c) state[o + c] = (float)(state[o + c] * fraction[c]);
+  if (SL_MODE != SL_MODE_LOW_ALBEDO) state[o + SL_NWL] = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, n, len);
 }
 #endif
 

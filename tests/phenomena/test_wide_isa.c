@@ -36,10 +36,7 @@ static void fill(sl_volume *v, int two_fields)
 int main(void)
 {
   sl_error err = {0};
-  __builtin_cpu_init();
-  const int wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-                   __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw");
-  printf("CPU %s AVX-512: %s\n", wide ? "has" : "lacks", wide ? "baseline against the wide copy" : "both renders take the baseline");
+  int wide_seen = -1; /* whether the renders without baseline_isa took the AVX-512 copy */
   sl_atmosphere atm3, atm16;
   double spectral[SL_SKY_SPECTRAL_COUNT];
   sl_sky_spectral_wavelengths(spectral);
@@ -79,8 +76,15 @@ int main(void)
             sl_sun_vector(suns[si][0], suns[si][1], sc.sun_direction);
             /* The volume's layer alone (no sky behind it), so the comparison weighs only the volume. */
             sl_renderer *r = sl_renderer_create(&sc, &err);
+            sl_render_stats st = {0};
             ok &= r && sl_image_alloc(&img[base], cam.width, cam.height, &err) == SL_OK &&
-                  sl_renderer_render(r, &cam, &img[base], NULL, &err) == SL_OK;
+                  sl_renderer_render(r, &cam, &img[base], &st, &err) == SL_OK;
+            if (base) CHECK_MSG(st.wide_isa == 0, "baseline_isa runs the baseline");
+            else if (wide_seen < 0) {
+              wide_seen = st.wide_isa;
+              printf("%s\n", wide_seen ? "the CPU has AVX-512: baseline against the wide copy"
+                                        : "no AVX-512 here: both renders take the baseline");
+            }
             sl_renderer_destroy(r);
           }
           char name[96];
