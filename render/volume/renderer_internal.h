@@ -131,7 +131,10 @@ static inline int sl__last_brick(const sl_grid_view *g, int a) { return g->n[a] 
  * a wider target, and OpenMP's outlined regions keep their parent's target. sl_volume builds
  * with -ffp-contract=off, so neither copy fuses a multiply and an add: both round alike, and
  * only libmvec's exp and log (each within 4 ulp) may differ in the last bits. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+/* Only in optimised builds: unoptimised (the sanitizer build), nothing is inlined, so the wide copy
+ * would call baseline helpers (sl__load_v4f, ...) from AVX-512 code at every sample and pay the
+ * switch between the two encodings each time (test_slicing: 20 min instead of 1 under ASan). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__OPTIMIZE__)
 #define SL_WIDE_TARGET __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt")))
 static inline int sl__wide_isa(const sl_scene *sc)
 {
