@@ -203,7 +203,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
    * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
   const size_t count = sl_volume_count(scene->volume);
   const int nf = r->model.nf;
-  r->fields = calloc((nf > 0 ? nf : 1) * count + 4, sizeof(float)); /* + 4: sl__sample_fields_n's last load */
+  r->fields = calloc((nf > 0 ? nf : 1) * count + 4, sizeof(float)); /* + 4: sl__field_fetch's last load */
   if (!r->fields) {
     sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
     sl_renderer_destroy(r);
@@ -589,6 +589,12 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       for (size_t ti = 0; ti < n_eye_tiles; ++ti) {
         if (k < eye_tiles.k[2 * ti] || k > eye_tiles.k[2 * ti + 1]) continue;
         const int tx0 = (int)(ti % eye_tiles.nx) * TILE, ty0 = (int)(ti / eye_tiles.nx) * TILE;
+        /* The tile's segments and cells first, prefetched; then per sample its fields (whose
+         * loads have been in flight meanwhile) and the gather. */
+        int cnt = 0;
+        int sq[TILE * TILE];
+        double smid[TILE * TILE], slen[TILE * TILE];
+        sl__field_cell cells[TILE * TILE];
         for (int py = ty0; py < ty0 + TILE && py < img->height; ++py)
         for (int px = tx0; px < tx0 + TILE && px < img->width; ++px) {
         const size_t q = (size_t)py * img->width + px;
@@ -597,11 +603,23 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         double mid, len;
         if (!clip_segment((sk - h_o) * rq[6], 0.5 * ds * fabs(rq[6]), rq[3], rq[4], &mid, &len)) continue;
         const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
+        eye_samples++;
+        if (!sl__field_cell_at(r, nf, x, 1, &cells[cnt])) continue;
+        sq[cnt] = (int)q, smid[cnt] = mid, slen[cnt] = len;
+        cnt++;
+        }
+        for (int si = 0; si < cnt; ++si) {
+        const size_t q = (size_t)sq[si];
+        const double *rq = ray + q * RAY_STRIDE;
+        const double mid = smid[si], len = slen[si];
+        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
         float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields_n(r, nf, x, beta_j);
+        {
+          const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
+          for (int j = 0; j < nf; ++j) beta_j[j] = v[j];
+        }
         double beta = 0.0;
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
-        eye_samples++;
         if (!(beta > 0.0)) continue;
         /* The light buffer holds the light up to this slab's first plane; from there the light
          * crosses this slab's own medium for a path that grows linearly along the eye segment.
@@ -684,6 +702,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         int idx[TILE * TILE];
         double seg[TILE * TILE];
         float bj[TILE * TILE][SL_MAX_FIELDS];
+        sl__field_cell cells[TILE * TILE];
+        /* The tile's cells first, prefetched; then their fields, whose loads overlap. */
         for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty)
         for (int tx = tx0; tx < tx0 + TILE && tx < L.w; ++tx) {
         const size_t t = (size_t)ty * L.w + tx;
@@ -695,17 +715,22 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
                              ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
-        float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields_n(r, nf, x, beta_j);
         light_samples++;
-        double beta = 0.0;
-        for (int f = 0; f < nf; ++f) beta += beta_j[f];
-        if (beta > 0.0) {
-          idx[cnt] = (int)t, seg[cnt] = len;
-          for (int f = 0; f < nf; ++f) bj[cnt][f] = beta_j[f];
-          cnt++;
+        if (!sl__field_cell_at(r, nf, x, 1, &cells[cnt])) continue;
+        idx[cnt] = (int)t, seg[cnt] = len;
+        cnt++;
         }
+        int live = 0;
+        for (int i = 0; i < cnt; ++i) {
+          const sl__v4f v = sl__field_fetch(r, nf, &cells[i]);
+          double beta = 0.0;
+          for (int f = 0; f < nf; ++f) beta += v[f];
+          if (!(beta > 0.0)) continue;
+          idx[live] = idx[i], seg[live] = seg[i];
+          for (int f = 0; f < nf; ++f) bj[live][f] = v[f];
+          live++;
         }
+        cnt = live;
         if (m->mode == SL_LIGHTING_MULTIPLE)
           light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
         else if (m->mode == SL_LIGHTING_LOW_ALBEDO)

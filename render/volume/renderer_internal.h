@@ -168,31 +168,66 @@ static inline __attribute__((always_inline)) sl__v4f sl__trilinear_v4f(const flo
   return c0 + fz * (c1 - c0);
 }
 
-/* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample, in
- * float); returns 0 and zeros outside the box or in an empty brick. nf is r->model.nf, passed
- * apart so that the specialised passes give it as a constant. The field array is padded by four
- * floats, so the last sample's 16-byte loads stay inside it when nf < 4. */
-static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_renderer *r, const int nf,
-                                                                     const double x[3], float *out)
+/* A field look-up in two steps, so that a pass can find a batch of samples' cells (and prefetch
+ * them) before it loads any: the loads of a batch then overlap instead of each waiting on memory
+ * in turn (the field fetch is most of the slicer's time; docs/PERFORMANCE.md). */
+typedef struct sl__field_cell {
+  const float *c; /* the cell's lowest corner in the interleaved field array */
+  float f[3];     /* the fractions within it */
+} sl__field_cell;
+
+/* The cell of x (the lattice rule of sl_grid_sample); 0 outside the box or in an empty brick,
+ * where every field is zero. Prefetches the cell's eight corners when asked. */
+static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_renderer *r, const int nf,
+                                                                   const double x[3], const int prefetch,
+                                                                   sl__field_cell *cell)
 {
   const sl_grid_view *g = &r->beta_view;
   int i0[3];
   double f[3];
   for (int a = 0; a < 3; ++a)
-    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) {
-      for (int j = 0; j < nf; ++j) out[j] = 0.0f;
-      return 0;
-    }
+    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) return 0;
   sl__lattice_cell(g, x, i0, f);
-  if (!sl__brick_occupied(r, i0)) {
-    for (int j = 0; j < nf; ++j) out[j] = 0.0f;
-    return 0;
+  if (!sl__brick_occupied(r, i0)) return 0;
+  cell->c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
+  for (int a = 0; a < 3; ++a) cell->f[a] = (float)f[a];
+  if (prefetch) {
+    const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
+    const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
+    /* Each row's two corners are 2 nf floats from the cell's corner on: its first and last byte. */
+    const float *rows[4] = {cell->c, cell->c + sy, cell->c + sz, cell->c + sy + sz};
+    for (int k = 0; k < 4; ++k) {
+      __builtin_prefetch(rows[k]);
+      __builtin_prefetch(rows[k] + 2 * nf - 1);
+    }
   }
+  return 1;
+}
+
+/* The trilinear interpolation of every field in a cell found by sl__field_cell_at. The field
+ * array is padded by four floats, so the last sample's 16-byte loads stay inside it when nf < 4. */
+static inline __attribute__((always_inline)) sl__v4f sl__field_fetch(const sl_renderer *r, const int nf,
+                                                                   const sl__field_cell *cell)
+{
+  const sl_grid_view *g = &r->beta_view;
   const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
   const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
   const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
-  const float *c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
-  const sl__v4f v = sl__trilinear_v4f(c, sx, sy, sz, (float)f[0], (float)f[1], (float)f[2]);
+  return sl__trilinear_v4f(cell->c, sx, sy, sz, cell->f[0], cell->f[1], cell->f[2]);
+}
+
+/* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample, in
+ * float); returns 0 and zeros outside the box or in an empty brick. nf is r->model.nf, passed
+ * apart so that the specialised passes give it as a constant. */
+static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_renderer *r, const int nf,
+                                                                     const double x[3], float *out)
+{
+  sl__field_cell cell;
+  if (!sl__field_cell_at(r, nf, x, 0, &cell)) {
+    for (int j = 0; j < nf; ++j) out[j] = 0.0f;
+    return 0;
+  }
+  const sl__v4f v = sl__field_fetch(r, nf, &cell);
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }
