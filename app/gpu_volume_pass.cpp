@@ -450,10 +450,9 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   eye_quad_->Render();
   model_.Deactivate();
   deactivate({fields_, light_, sunlight_, opaque_});
-  if (!read_accumulator_) {
-    glFinish();  // the eye pass's time is its own, not the resolve's
-    return true;
-  }
+  glFinish();  // the eye pass's time is its own, not the read-back's or the resolve's
+  if (!read_accumulator_) return true;
+  const auto t = std::chrono::steady_clock::now();
   // Read the accumulator back: radiance and transparency, then the depth numerator.
   std::vector<float> color((size_t)width * height * 4), depth((size_t)width * height * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -469,6 +468,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
       for (int c = 0; c < 4; ++c) accumulator_[dst + c] = color[4 * src + c];
       accumulator_[dst + 4] = depth[4 * src];
     }
+  accumulator_read_seconds_ = seconds_since(t);
   return true;
 }
 
@@ -515,6 +515,8 @@ bool GpuVolumePass::Resolve(vtkOpenGLRenderWindow *win)
   p->SetUniform3f("slIrradiance", sky.sun_irradiance);
   resolve_quad_->Render();
   deactivate({color, depth});
+  glFinish();
+  const auto t = std::chrono::steady_clock::now();
   // GL's rows from the bottom hold the image's rows from the top: read straight into the images.
   const size_t np = (size_t)width * height;
   std::vector<float> scalars(4 * np);
@@ -529,6 +531,7 @@ bool GpuVolumePass::Resolve(vtkOpenGLRenderWindow *win)
     glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, background_->rgba);
     for (size_t q = 0; q < np; ++q) background_->depth[q] = scalars[4 * q + 2], background_->transparency[q] = 0.0f;
   }
+  layers_read_seconds_ = seconds_since(t);
   return true;
 }
 
@@ -561,8 +564,9 @@ void GpuVolumePass::Render(const vtkRenderState *s)
     light_seconds_ = seconds_since(t);
   }
   t = std::chrono::steady_clock::now();
+  accumulator_read_seconds_ = 0.0;
   if (good) good = Eye(win);
-  eye_seconds_ = seconds_since(t);
+  eye_seconds_ = seconds_since(t) - accumulator_read_seconds_;
   t = std::chrono::steady_clock::now();
   resolve_seconds_ = 0.0;
   if (good && volume_) {

@@ -86,8 +86,10 @@ class GpuVolumePass : public vtkRenderPass {
   bool Succeeded() const { return ok_; }
   const std::string &Error() const { return error_; }
   double LightSeconds() const { return light_seconds_; }
-  double EyeSeconds() const { return eye_seconds_; }      // the accumulator's read-back included
+  double EyeSeconds() const { return eye_seconds_; }  // the eye pass's draw, finished
+  double AccumulatorReadSeconds() const { return accumulator_read_seconds_; }  // 0 unless read back
   double ResolveSeconds() const { return resolve_seconds_; }  // the layers' read-back included
+  double LayersReadSeconds() const { return layers_read_seconds_; }  // of which the read-back
 
   // Why this model cannot be drawn on the GPU (empty: it can): wavelengths other than three,
   // tables on different angular grids.
@@ -114,7 +116,8 @@ class GpuVolumePass : public vtkRenderPass {
   sl_image *volume_ = nullptr, *background_ = nullptr;
   std::string error_;
   std::vector<float> accumulator_;
-  double light_seconds_ = 0.0, eye_seconds_ = 0.0, resolve_seconds_ = 0.0;
+  double light_seconds_ = 0.0, eye_seconds_ = 0.0, accumulator_read_seconds_ = 0.0, resolve_seconds_ = 0.0;
+  double layers_read_seconds_ = 0.0;
   GpuModelTextures model_;
   vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
   vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
