@@ -1,8 +1,8 @@
 // The GPU resolve (shaders/volume_resolve.glsl) against the CPU's of the same eye accumulator: the
 // pass draws a frame, reads its accumulator back for sl_renderer_resolve_accumulator and
 // sl_renderer_background, and resolves it on the GPU; the two sets of layers must agree to float
-// accuracy. Cases: the flat ground seen from above the cloud, the round earth's horizon from
-// 30 km and from 300 m at dawn, the sun's disk filling a narrow view, night, no air.
+// accuracy. Cases: the cloud and the flat ground seen from 12 degrees above, the round earth's
+// horizon from 30 km and from 300 m at dawn, the sun's disk filling a narrow view, night, no air.
 //
 // Tolerances. The resolve evaluates render/sky/sky_sample_shared.h in float where the CPU uses
 // double; test_gpu_sky finds every one of those functions within 1e-5 relative of the C (worst
