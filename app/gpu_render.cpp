@@ -5,7 +5,6 @@
 #include <vtkRenderer.h>
 
 #include "gpu_volume_pass.h"
-#include "sl_renderer_gpu.h"
 #include "x_display.h"
 
 namespace sl {
@@ -37,8 +36,8 @@ GpuVolumeDrawer::~GpuVolumeDrawer()
 
 void GpuVolumeDrawer::resweep() { parts_->pass->Resweep(); }
 
-bool GpuVolumeDrawer::draw(const sl_renderer *r, const sl_camera &cam, sl_image *volume, std::string *why,
-                           GpuTimings *timings)
+bool GpuVolumeDrawer::draw(const sl_renderer *r, const sl_camera &cam, sl_image *volume, sl_image *background,
+                           std::string *why, GpuTimings *timings)
 {
   const std::string unsupported = GpuVolumePass::Unsupported(r);
   if (!unsupported.empty()) {
@@ -55,7 +54,9 @@ bool GpuVolumeDrawer::draw(const sl_renderer *r, const sl_camera &cam, sl_image 
   }
   if (p.source != r) p.pass->SetRenderer(r), p.source = r;
   p.pass->SetCamera(cam);
+  p.pass->SetLayers(volume, background);
   p.window->Render();
+  p.pass->SetLayers(nullptr, nullptr);
   if (!p.pass->Succeeded()) {
     *why = p.pass->Error();
     return false;
@@ -63,11 +64,7 @@ bool GpuVolumeDrawer::draw(const sl_renderer *r, const sl_camera &cam, sl_image 
   if (timings) {
     timings->light_seconds = p.pass->LightSeconds();
     timings->eye_seconds = p.pass->EyeSeconds();
-  }
-  sl_error err{};
-  if (sl_renderer_resolve_accumulator(r, &cam, p.pass->Accumulator().data(), 5, volume, &err)) {
-    *why = err.message;
-    return false;
+    timings->resolve_seconds = p.pass->ResolveSeconds();
   }
   return true;
 }
@@ -76,7 +73,7 @@ bool gpu_render_volume(const sl_renderer *r, const sl_camera &cam, sl_image *vol
                        GpuTimings *timings)
 {
   GpuVolumeDrawer drawer;
-  return drawer.draw(r, cam, volume, why, timings);
+  return drawer.draw(r, cam, volume, nullptr, why, timings);
 }
 
 }  // namespace sl

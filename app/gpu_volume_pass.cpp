@@ -16,9 +16,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "sl_renderer_gpu.h"
 #include "sl_shaders.h"
+#include "sl_sky_sample.h"
 
 namespace sl {
 
@@ -34,13 +36,18 @@ double seconds_since(std::chrono::steady_clock::time_point t)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// The fragment shader with the shared physics where the marker stands.
-std::string with_physics(const char *shader)
+// A fragment shader with the embedded texts where its markers stand: the shared per-sample
+// physics and the lattice's look-ups, the shared sky, the view ray.
+std::string with_shared(const char *shader)
 {
   std::string s = shader;
-  const std::string marker = "//SL::Physics";
-  const size_t at = s.find(marker);
-  if (at != std::string::npos) s.replace(at, marker.size(), gpu_physics_prelude() + sl_shader_volume_grid);
+  const auto put = [&s](const std::string &marker, const std::string &text) {
+    const size_t at = s.find(marker);
+    if (at != std::string::npos) s.replace(at, marker.size(), text);
+  };
+  put("//SL::Physics", gpu_physics_prelude() + sl_shader_volume_grid);
+  put("//SL::Sky", gpu_sky_prelude());
+  put("//SL::ViewRay", sl_shader_view_ray);
   return s;
 }
 
@@ -79,6 +86,15 @@ std::string gpu_physics_prelude()
 {
   return std::string("#define SL_MAX_FIELDS ") + std::to_string(kMaxFields) + "\n#define SL_MAX_WAVELENGTHS " +
          std::to_string(kWavelengths) + "\n" + sl_shader_volume_model + "\n" + sl_shader_sl_sample_physics + "\n";
+}
+
+std::string gpu_sky_prelude()
+{
+  return "#define SL_SKY_REAL float\n#define SL_SKY_INFINITY slInfinity\n#define sl_sky_isinf(x) isinf(x)\n"
+         "#define sl_sky_abs(x) abs(x)\n#define SL_SKY_IN_ARRAY(name, n) in float name[n]\n"
+         "#define SL_SKY_OUT_ARRAY(name, n) out float name[n]\n#define SL_SUN_ANGULAR_DIAMETER_DEG " +
+         std::to_string(SL_SUN_ANGULAR_DIAMETER_DEG) +
+         "\nuniform float slInfinity; // GLSL 1.50 has no literal for it\n" + sl_shader_sky_sample_shared + "\n";
 }
 
 vtkTextureObject *new_float_texture(vtkOpenGLRenderWindow *win)
@@ -240,7 +256,7 @@ void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
 {
   model_.Release(w);
   for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_}) release(t, w);
-  for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_})
+  for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_, &resolve_fbo_})
     if (*f) {
       if (w) (*f)->ReleaseGraphicsResources(w);
       (*f)->Delete();
@@ -248,7 +264,8 @@ void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
     }
   delete sweep_quad_;
   delete eye_quad_;
-  sweep_quad_ = eye_quad_ = nullptr;
+  delete resolve_quad_;
+  sweep_quad_ = eye_quad_ = resolve_quad_ = nullptr;
   uploaded_ = swept_ = false;
 }
 
@@ -301,6 +318,42 @@ void GpuVolumePass::SetVolumeUniforms(vtkShaderProgram *p)
   p->SetUniform3f("slSun", sun);
 }
 
+// The camera (shaders/view_ray.glsl): its basis as sl__camera_basis builds it, the eye and the
+// content box relative to the lattice's first sample.
+void GpuVolumePass::SetViewUniforms(vtkShaderProgram *p)
+{
+  sl_renderer_gpu_inputs in;
+  sl_renderer_gpu_inputs_get(renderer_, &in);
+  const int width = camera_.width, height = camera_.height;
+  double fwd[3], right[3], up[3], len = 0.0;
+  for (int a = 0; a < 3; ++a) fwd[a] = camera_.target[a] - camera_.position[a], len += fwd[a] * fwd[a];
+  for (double &v : fwd) v /= std::sqrt(len);
+  right[0] = fwd[1] * camera_.up[2] - fwd[2] * camera_.up[1];
+  right[1] = fwd[2] * camera_.up[0] - fwd[0] * camera_.up[2];
+  right[2] = fwd[0] * camera_.up[1] - fwd[1] * camera_.up[0];
+  len = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+  for (double &v : right) v /= len;
+  up[0] = right[1] * fwd[2] - right[2] * fwd[1];
+  up[1] = right[2] * fwd[0] - right[0] * fwd[2];
+  up[2] = right[0] * fwd[1] - right[1] * fwd[0];
+  float eye[3], lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    eye[a] = (float)(camera_.position[a] - in.origin[a]);
+    lo[a] = (float)(in.content_lo[a] - in.origin[a]);
+    hi[a] = (float)(in.content_hi[a] - in.origin[a]);
+  }
+  p->SetUniform3f("slEye", eye);
+  p->SetUniform3f("slFwd", fwd);
+  p->SetUniform3f("slRight", right);
+  p->SetUniform3f("slUp", up);
+  p->SetUniformf("slTanHalf", (float)std::tan(0.5 * camera_.fov_deg * M_PI / 180.0));
+  p->SetUniformf("slAspect", (float)width / height);
+  const float size[2] = {(float)width, (float)height};
+  p->SetUniform2f("slSize", size);
+  p->SetUniform3f("slContentLo", lo);
+  p->SetUniform3f("slContentHi", hi);
+}
+
 static void activate(std::initializer_list<vtkTextureObject *> ts)
 {
   for (vtkTextureObject *t : ts) t->Activate();
@@ -321,7 +374,7 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
   if (!light_->Create3DFromRaw(w, h, layers, 4, VTK_FLOAT, nullptr))
     return Fail("the OpenGL context cannot hold the light volume as a float 3D texture");
   if (!bind_float_targets(&plane_fbo_, win, w, h, 1)) return Fail("the OpenGL context has no float render target");
-  if (!ready_quad(&sweep_quad_, win, with_physics(sl_shader_volume_light_sweep)))
+  if (!ready_quad(&sweep_quad_, win, with_shared(sl_shader_volume_light_sweep)))
     return Fail("the light sweep's shader does not compile on this OpenGL context");
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, w, h);
@@ -373,7 +426,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   if (!opaque_->Create2DFromRaw(width, height, 1, VTK_FLOAT, opaque.data()))
     return Fail("the OpenGL context cannot hold the opaque distances");
   if (!bind_float_targets(&eye_fbo_, win, width, height, 2)) return Fail("the OpenGL context has no float render targets");
-  if (!ready_quad(&eye_quad_, win, with_physics(sl_shader_volume_eye)))
+  if (!ready_quad(&eye_quad_, win, with_shared(sl_shader_volume_eye)))
     return Fail("the eye pass's shader does not compile on this OpenGL context");
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, width, height);
@@ -382,34 +435,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   model_.Activate();
   vtkShaderProgram *p = eye_quad_->Program;
   SetVolumeUniforms(p);
-  // Camera basis as sl__camera_basis builds it, relative to the lattice's first sample.
-  double fwd[3], right[3], up[3], len = 0.0;
-  for (int a = 0; a < 3; ++a) fwd[a] = camera_.target[a] - camera_.position[a], len += fwd[a] * fwd[a];
-  for (double &v : fwd) v /= std::sqrt(len);
-  right[0] = fwd[1] * camera_.up[2] - fwd[2] * camera_.up[1];
-  right[1] = fwd[2] * camera_.up[0] - fwd[0] * camera_.up[2];
-  right[2] = fwd[0] * camera_.up[1] - fwd[1] * camera_.up[0];
-  len = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
-  for (double &v : right) v /= len;
-  up[0] = right[1] * fwd[2] - right[2] * fwd[1];
-  up[1] = right[2] * fwd[0] - right[0] * fwd[2];
-  up[2] = right[0] * fwd[1] - right[1] * fwd[0];
-  float eye[3], lo[3], hi[3];
-  for (int a = 0; a < 3; ++a) {
-    eye[a] = (float)(camera_.position[a] - in.origin[a]);
-    lo[a] = (float)(in.content_lo[a] - in.origin[a]);
-    hi[a] = (float)(in.content_hi[a] - in.origin[a]);
-  }
-  p->SetUniform3f("slEye", eye);
-  p->SetUniform3f("slFwd", fwd);
-  p->SetUniform3f("slRight", right);
-  p->SetUniform3f("slUp", up);
-  p->SetUniformf("slTanHalf", (float)std::tan(0.5 * camera_.fov_deg * M_PI / 180.0));
-  p->SetUniformf("slAspect", (float)width / height);
-  const float size[2] = {(float)width, (float)height};
-  p->SetUniform2f("slSize", size);
-  p->SetUniform3f("slContentLo", lo);
-  p->SetUniform3f("slContentHi", hi);
+  SetViewUniforms(p);
   p->SetUniformf("slAngleInvStep", (float)model_.AngleInvStep());
   p->SetUniformi("slAngles", model_.Angles());
   p->SetUniformi("slSunlight", sunlight_->GetTextureUnit());
@@ -424,6 +450,9 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   eye_quad_->Render();
   model_.Deactivate();
   deactivate({fields_, light_, sunlight_, opaque_});
+  glFinish();  // the eye pass's time is its own, not the read-back's or the resolve's
+  if (!read_accumulator_) return true;
+  const auto t = std::chrono::steady_clock::now();
   // Read the accumulator back: radiance and transparency, then the depth numerator.
   std::vector<float> color((size_t)width * height * 4), depth((size_t)width * height * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -439,6 +468,70 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
       for (int c = 0; c < 4; ++c) accumulator_[dst + c] = color[4 * src + c];
       accumulator_[dst + 4] = depth[4 * src];
     }
+  accumulator_read_seconds_ = seconds_since(t);
+  return true;
+}
+
+// The layers from the eye accumulator (shaders/volume_resolve.glsl), read back into the images.
+bool GpuVolumePass::Resolve(vtkOpenGLRenderWindow *win)
+{
+  const int width = camera_.width, height = camera_.height;
+  if (volume_->width != width || volume_->height != height ||
+      (background_ && (background_->width != width || background_->height != height)))
+    return Fail("resolve: the images are not the camera's size");
+  sl_renderer_gpu_sky sky;
+  sl_error err{};
+  if (sl_renderer_gpu_sky_get(renderer_, &camera_, &sky, &err)) return Fail(err.message);
+  vtkTextureObject *color = eye_fbo_->GetColorAttachmentAsTextureObject(0);
+  vtkTextureObject *depth = eye_fbo_->GetColorAttachmentAsTextureObject(1);
+  if (!color || !depth) return Fail("the eye pass's targets cannot be read as textures");
+  if (!bind_float_targets(&resolve_fbo_, win, width, height, 3))
+    return Fail("the OpenGL context has no float render targets");
+  if (!ready_quad(&resolve_quad_, win, with_shared(sl_shader_volume_resolve)))
+    return Fail("the resolve's shader does not compile on this OpenGL context");
+  vtkOpenGLState *gl = win->GetState();
+  gl->vtkglViewport(0, 0, width, height);
+  gl->vtkglScissor(0, 0, width, height);
+  activate({color, depth});
+  vtkShaderProgram *p = resolve_quad_->Program;
+  SetViewUniforms(p);
+  p->SetUniformi("slAccColor", color->GetTextureUnit());
+  p->SetUniformi("slAccDepth", depth->GetTextureUnit());
+  p->SetUniformf("slInfinity", std::numeric_limits<float>::infinity());
+  p->SetUniformf("slMidDistance", (float)sky.mid_distance);
+  float to_rgb[3][3];
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < kWavelengths; ++i) to_rgb[c][i] = (float)sky.to_rgb[c * sky.nwl + i];
+  p->SetUniform3fv("slToRgb", 3, to_rgb);
+  p->SetUniformi("slHaveAir", sky.has_atmosphere);
+  p->SetUniform3f("slSkyRadiance", sky.sky_radiance);
+  p->SetUniformf("slEyeAltitude", (float)sky.altitude);
+  p->SetUniformf("slAirmass", (float)sky.airmass);  // infinite at night: the shared sky's encoding
+  p->SetUniformf("slInvScaleHeight", (float)sky.inv_scale_height);
+  p->SetUniformf("slGroundRadius", (float)sky.ground_radius);
+  p->SetUniform3f("slVertical", sky.up);
+  p->SetUniform3f("slSkySun", sky.sun);
+  p->SetUniform3f("slBeta", sky.beta_sea_level);
+  p->SetUniform3f("slIrradiance", sky.sun_irradiance);
+  resolve_quad_->Render();
+  deactivate({color, depth});
+  glFinish();
+  const auto t = std::chrono::steady_clock::now();
+  // GL's rows from the bottom hold the image's rows from the top: read straight into the images.
+  const size_t np = (size_t)width * height;
+  std::vector<float> scalars(4 * np);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  resolve_fbo_->ActivateReadBuffer(0);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, volume_->rgba);
+  resolve_fbo_->ActivateReadBuffer(1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, scalars.data());
+  for (size_t q = 0; q < np; ++q) volume_->transparency[q] = scalars[4 * q], volume_->depth[q] = scalars[4 * q + 1];
+  if (background_) {
+    resolve_fbo_->ActivateReadBuffer(2);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, background_->rgba);
+    for (size_t q = 0; q < np; ++q) background_->depth[q] = scalars[4 * q + 2], background_->transparency[q] = 0.0f;
+  }
+  layers_read_seconds_ = seconds_since(t);
   return true;
 }
 
@@ -471,8 +564,15 @@ void GpuVolumePass::Render(const vtkRenderState *s)
     light_seconds_ = seconds_since(t);
   }
   t = std::chrono::steady_clock::now();
+  accumulator_read_seconds_ = 0.0;
   if (good) good = Eye(win);
-  eye_seconds_ = seconds_since(t);
+  eye_seconds_ = seconds_since(t) - accumulator_read_seconds_;
+  t = std::chrono::steady_clock::now();
+  resolve_seconds_ = 0.0;
+  if (good && volume_) {
+    good = Resolve(win);
+    resolve_seconds_ = seconds_since(t);
+  }
   gl->PopFramebufferBindings();
   gl->vtkglEnable(GL_DEPTH_TEST);
   if (good && glGetError() != GL_NO_ERROR) good = Fail("OpenGL reported an error in the volume pass");

@@ -1,9 +1,11 @@
 // A vtkRenderPass that draws Stormlight's volume with the multiple-scattering lighting on the
 // GPU: the light volume swept plane by plane along the sun's dominant axis into a float 3D
 // texture (a sun change costs one sweep), then a ray-marched eye pass into float targets. The
-// per-sample physics is render/volume/sl_sample_physics.h, the same text the CPU compiles. The
-// pass reads its eye accumulator back for the CPU's resolve (aerial perspective in front of the
-// volume, which has no GLSL port yet). It owns its GL resources and defines no physics.
+// per-sample physics is render/volume/sl_sample_physics.h, the same text the CPU compiles. A
+// resolve on the GPU then turns the eye accumulator into the frame's layers (the volume with the
+// aerial perspective in front of it, the sky with the sun's disk behind), with the sky of
+// render/sky/sky_sample_shared.h, also the CPU's text; the accumulator itself can be read back
+// for the CPU's resolve. It owns its GL resources and defines no physics.
 #pragma once
 
 #include <vtkRenderPass.h>
@@ -11,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sl_image.h"
 #include "sl_renderer.h"
 
 extern "C" {
@@ -68,6 +71,12 @@ class GpuVolumePass : public vtkRenderPass {
   // Sweeps the light volume again on the next frame (what a sun change costs once the renderer
   // holds the new sun; used by the benchmark).
   void Resweep() { swept_ = false; }
+  // Where the GPU resolve writes the frame's layers (allocated at the camera's size, not owned;
+  // as sl_renderer_resolve_accumulator and sl_renderer_background write them); background may be
+  // null. Without a volume layer the pass does not resolve.
+  void SetLayers(sl_image *volume, sl_image *background) { volume_ = volume, background_ = background; }
+  // Reads the raw eye accumulator back too (Accumulator(), for the CPU's resolve); off by default.
+  void SetReadAccumulator(bool read) { read_accumulator_ = read; }
 
   void Render(const vtkRenderState *s) override;
   void ReleaseGraphicsResources(vtkWindow *w) override;
@@ -77,7 +86,10 @@ class GpuVolumePass : public vtkRenderPass {
   bool Succeeded() const { return ok_; }
   const std::string &Error() const { return error_; }
   double LightSeconds() const { return light_seconds_; }
-  double EyeSeconds() const { return eye_seconds_; }
+  double EyeSeconds() const { return eye_seconds_; }  // the eye pass's draw, finished
+  double AccumulatorReadSeconds() const { return accumulator_read_seconds_; }  // 0 unless read back
+  double ResolveSeconds() const { return resolve_seconds_; }  // the layers' read-back included
+  double LayersReadSeconds() const { return layers_read_seconds_; }  // of which the read-back
 
   // Why this model cannot be drawn on the GPU (empty: it can): wavelengths other than three,
   // tables on different angular grids.
@@ -93,24 +105,31 @@ class GpuVolumePass : public vtkRenderPass {
   bool Upload(vtkOpenGLRenderWindow *win);
   bool Sweep(vtkOpenGLRenderWindow *win);
   bool Eye(vtkOpenGLRenderWindow *win);
+  bool Resolve(vtkOpenGLRenderWindow *win);
   bool Fail(const std::string &why);
   void SetVolumeUniforms(vtkShaderProgram *p);
+  void SetViewUniforms(vtkShaderProgram *p);
 
   const sl_renderer *renderer_ = nullptr;
   sl_camera camera_{};
-  bool uploaded_ = false, swept_ = false, ok_ = false;
+  bool uploaded_ = false, swept_ = false, ok_ = false, read_accumulator_ = false;
+  sl_image *volume_ = nullptr, *background_ = nullptr;
   std::string error_;
   std::vector<float> accumulator_;
-  double light_seconds_ = 0.0, eye_seconds_ = 0.0;
+  double light_seconds_ = 0.0, eye_seconds_ = 0.0, accumulator_read_seconds_ = 0.0, resolve_seconds_ = 0.0;
+  double layers_read_seconds_ = 0.0;
   GpuModelTextures model_;
   vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
   vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
-  vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr;
-  vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr;
+  vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr, *resolve_fbo_ = nullptr;
+  vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr, *resolve_quad_ = nullptr;
 };
 
 // The GLSL text of the shared per-sample physics with the GPU model's accessors in front, as
 // the pass compiles it (for tests that evaluate the shared functions on the GPU).
 std::string gpu_physics_prelude();
+// The GLSL text of the shared sky (render/sky/sky_sample_shared.h) in float, with its macros, the
+// sun's angular diameter and the uniform slInfinity (a ray that meets no ground) in front.
+std::string gpu_sky_prelude();
 
 }  // namespace sl

@@ -212,14 +212,15 @@ bool RenderSession::draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_im
   if (gpu) {
     GpuTimings gt;
     if (!have_display(gpu_note)) {
-    } else if (parts_->gpu.draw(renderer, cam, volume, gpu_note, &gt)) {
+    } else if (parts_->gpu.draw(renderer, cam, volume, background, gpu_note, &gt)) {
       *stats = sl_render_stats{};
       stats->light_seconds = gt.light_seconds, stats->eye_seconds = gt.eye_seconds;
       *gpu_done = true;
     }
   }
-  if ((!*gpu_done && sl_renderer_render(renderer, &cam, volume, stats, &err)) ||
-      sl_renderer_background(renderer, &cam, background, &err)) {
+  // The CPU draws what the GPU did not: the whole frame, the volume and the sky.
+  if (!*gpu_done && (sl_renderer_render(renderer, &cam, volume, stats, &err) ||
+                     sl_renderer_background(renderer, &cam, background, &err))) {
     *why = err.message;
     return false;
   }

@@ -1,14 +1,11 @@
 //VTK::System::Dec
 // Stormlight: the eye pass over the light volume (render/volume/light_volume.c's ray march on the
 // GPU): slMarchSamples (2 by default) samples per grid cell along each pixel's ray through the
-// content box, the closed-form gather of eq. 26 between samples, front-to-back. Writes the accumulator the CPU resolves:
-// radiance per wavelength and the transparency, then the opacity-weighted depth numerator.
+// content box, the closed-form gather of eq. 26 between samples, front-to-back. Writes the accumulator
+// that shaders/volume_resolve.glsl (or the CPU) resolves: radiance per wavelength and the
+// transparency, then the opacity-weighted depth numerator.
 //SL::Physics
-uniform vec3 slEye;            // camera position relative to the lattice's sample (0,0,0)
-uniform vec3 slFwd, slRight, slUp;
-uniform float slTanHalf, slAspect;
-uniform vec2 slSize;
-uniform vec3 slContentLo, slContentHi;
+//SL::ViewRay
 uniform vec3 slSun;            // unit vector toward the sun
 uniform float slAngleInvStep;  // the Ams tables' angular grid
 uniform int slAngles;
@@ -46,23 +43,11 @@ void main()
 {
   if (texCoord.x < -1.0) discard;
   float px = floor(gl_FragCoord.x), py = slSize.y - 1.0 - floor(gl_FragCoord.y); // rows from the top
-  float sx = (2.0 * (px + 0.5) / slSize.x - 1.0) * slTanHalf * slAspect;
-  float sy = (1.0 - 2.0 * (py + 0.5) / slSize.y) * slTanHalf;
-  vec3 d = normalize(slFwd + sx * slRight + sy * slUp);
+  vec3 d = slPixelRay(px, py);
   vec3 radiance = vec3(0.0);
   float T = 1.0, depth = 0.0;
-  // Slab intersection with the content box (sl_ray_box).
-  float t0 = -3.0e38, t1 = 3.0e38;
-  bool hit = true;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0) {
-      if (slEye[a] < slContentLo[a] || slEye[a] > slContentHi[a]) hit = false;
-      continue;
-    }
-    float ta = (slContentLo[a] - slEye[a]) / d[a], tb = (slContentHi[a] - slEye[a]) / d[a];
-    t0 = max(t0, min(ta, tb));
-    t1 = min(t1, max(ta, tb));
-  }
+  float t0, t1;
+  bool hit = slContentSpan(d, t0, t1);
   t1 = min(t1, texelFetch(slOpaque, ivec2(int(px), int(py)), 0).r);
   hit = hit && t1 > t0 && t1 > 0.0;
   t0 = max(t0, 0.0);

@@ -134,12 +134,9 @@ void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_
   double up[3];
   const double z_eye = sl_sky_altitude(atm, view->eye, up);
   const double gamma = 1.0 / atm->scale_height, mu = dot3(dir, up);
-  /* the part of the ray that exists: it ends where it meets the ground */
-  double end = sl_sky_segment_length(z_eye, mu, t_far, atm->ground_radius);
-  double near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
   double phase = sl_sky_rayleigh_phase(dir[0] * view->sun[0] + dir[1] * view->sun[1] + dir[2] * view->sun[2]);
   double g[5]; /* wavelength-independent geometry, once per ray */
-  sl_sky_segment_geometry(gamma, z_eye, mu, near, end, g);
+  const double near = sl_sky_view_geometry(gamma, z_eye, mu, atm->ground_radius, t_near, t_far, g);
   for (int i = 0; i < atm->count; ++i) {
     if (radiance)
       radiance[i] = sl_sky_segment_radiance(atm->beta_sea_level[i], atm->sun_irradiance[i], phase, gamma, mu, near,

@@ -130,6 +130,20 @@ void sl_sky_segment_geometry(SL_SKY_REAL inv_scale_height, SL_SKY_REAL z_eye, SL
   g[4] = length > 0.0 ? exp(mu == 0.0 ? 0.0 : -gamma * mu * length) : 1.0;
 }
 
+/* The stretch [t_near, t_far] of a view ray (t_far may be infinite) as sl_sky_view_segment
+ * gathers over it: the ray ends where it meets the ground (sl_sky_segment_length), and the
+ * stretch starts no earlier than the eye and no later than that end. Writes its geometry g
+ * (sl_sky_segment_geometry) and returns its near end. */
+SL_SKY_REAL sl_sky_view_geometry(SL_SKY_REAL inv_scale_height, SL_SKY_REAL z_eye, SL_SKY_REAL mu,
+                                 SL_SKY_REAL ground_radius, SL_SKY_REAL t_near, SL_SKY_REAL t_far,
+                                 SL_SKY_OUT_ARRAY(g, 5))
+{
+  SL_SKY_REAL end = sl_sky_segment_length(z_eye, mu, t_far, ground_radius);
+  SL_SKY_REAL near = t_near < end ? (t_near > 0.0 ? t_near : 0.0) : end;
+  sl_sky_segment_geometry(inv_scale_height, z_eye, mu, near, end, g);
+  return near;
+}
+
 /* Riley et al. 2004, eqs. 14-15 corrected, over that stretch for one wavelength of sea-level
  * extinction beta and top-of-atmosphere irradiance: the sunlight the stretch scatters toward
  * the eye (Rayleigh phase value `phase`), attenuated by the air between the eye and near. */

@@ -90,6 +90,8 @@ double sl_sky_sun_disk_light(double irradiance, double beta_sea_level, double in
 /* The view-segment pieces of sl_sky_view_segment (sl_sky.h), one wavelength at a time over a
  * geometry computed once per ray: see sky_sample_shared.h. */
 void sl_sky_segment_geometry(double inv_scale_height, double z_eye, double mu, double near, double end, double g[5]);
+double sl_sky_view_geometry(double inv_scale_height, double z_eye, double mu, double ground_radius, double t_near,
+                            double t_far, double g[5]);
 double sl_sky_segment_radiance(double beta, double irradiance, double phase, double inv_scale_height, double mu,
                                double near, double airmass, const double g[5]);
 double sl_sky_segment_transparency(double beta, const double g[5]);

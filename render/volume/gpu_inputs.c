@@ -76,3 +76,32 @@ int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, 
   }
   return SL_OK;
 }
+
+int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_renderer_gpu_sky *out, sl_error *err)
+{
+  memset(out, 0, sizeof *out);
+  const sl_scene *sc = &r->scene;
+  double fwd[3], right[3], up[3];
+  if (sl__camera_basis(cam, fwd, right, up))
+    return sl_fail(err, SL_ERR_ARG, "resolve: camera position equals the target, or up is parallel to the view");
+  out->nwl = r->model.nwl;
+  memcpy(out->to_rgb, r->to_rgb, sizeof out->to_rgb);
+  memcpy(out->sky_radiance, sc->sky_radiance, sizeof out->sky_radiance);
+  out->mid_distance = sl__dot3(fwd, r->content_center) - sl__dot3(fwd, cam->position);
+  if (!sc->atmosphere) return SL_OK;
+  const sl_atmosphere *atm = sc->atmosphere;
+  sl_sky_view view;
+  if (sl_sky_view_init(&view, atm, cam->position, sc->sun_direction, err)) return err->code;
+  out->has_atmosphere = 1;
+  out->altitude = view.altitude;
+  out->airmass = view.airmass;
+  memcpy(out->up, view.up, sizeof out->up);
+  memcpy(out->sun, view.sun, sizeof out->sun);
+  for (int c = 0; c < r->model.nwl; ++c) {
+    out->beta_sea_level[c] = atm->beta_sea_level[c];
+    out->sun_irradiance[c] = atm->sun_irradiance[c];
+  }
+  out->inv_scale_height = 1.0 / atm->scale_height;
+  out->ground_radius = atm->ground_radius;
+  return SL_OK;
+}

@@ -42,6 +42,27 @@ int sl_renderer_sunlight_table(const sl_renderer *r, const sl_camera *cam, doubl
 int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, const float *acc, int stride,
                                     sl_image *img, sl_error *err);
 
+/* What a resolve on the GPU needs per frame to compute, per pixel, what
+ * sl_renderer_resolve_accumulator and sl_renderer_background compute on the CPU: the sky as seen
+ * from this camera (sl_sky_view_init: the eye's height and vertical, the sun's air mass, the unit
+ * sun), the air's constants per wavelength, the spectral-to-RGB rows, the constant background
+ * without air, and the distance along the view axis from the eye to the content's midplane (the
+ * light-volume pass's split between the front aerial perspective and the volume). */
+typedef struct sl_renderer_gpu_sky {
+  int has_atmosphere;              /* 0: no air, the background is sky_radiance, no aerial perspective */
+  int nwl;
+  double altitude, up[3];          /* the eye's height above the ground and its local vertical */
+  double airmass;                  /* the sun's air mass at the eye; infinite at night */
+  double sun[3];                   /* unit, toward the sun */
+  double beta_sea_level[SL_MAX_WAVELENGTHS], sun_irradiance[SL_MAX_WAVELENGTHS];
+  double inv_scale_height, ground_radius;
+  double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* row c: the weights of linear sRGB channel c */
+  double sky_radiance[3];
+  double mid_distance;             /* dot(forward, content centre - eye) */
+} sl_renderer_gpu_sky;
+
+int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_renderer_gpu_sky *out, sl_error *err);
+
 #ifdef __cplusplus
 }
 #endif

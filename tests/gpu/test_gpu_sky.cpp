@@ -42,14 +42,6 @@ bool agrees(double gpu, double cpu, double rel, double abs_tol)
 }
 
 const char *kShader = R"GLSL(//VTK::System::Dec
-#define SL_SKY_REAL float
-#define SL_SKY_INFINITY slInfinity
-#define sl_sky_isinf(x) isinf(x)
-#define sl_sky_abs(x) abs(x)
-#define SL_SKY_IN_ARRAY(name, n) in float name[n]
-#define SL_SKY_OUT_ARRAY(name, n) out float name[n]
-uniform float slInfinity;
-//SL::SunDiameter
 //SL::Sky
 uniform sampler2D cases; // texel (i, 0): x, z_eye, mu, distance; (i, 1): airmass, cos, ground radius, beta
 in vec2 texCoord;
@@ -104,9 +96,7 @@ int main(int argc, char **argv)
     b[3] = (float)(5.0e-6 + 3.0e-5 * rng.next());                                     // beta at sea level
   }
   std::string shader = kShader, why;
-  shader.replace(shader.find("//SL::Sky"), 9, sl_shader_sky_sample_shared);
-  shader.replace(shader.find("//SL::SunDiameter"), 17,
-                 "#define SL_SUN_ANGULAR_DIAMETER_DEG " + std::to_string(SL_SUN_ANGULAR_DIAMETER_DEG));
+  shader.replace(shader.find("//SL::Sky"), 9, sl::gpu_sky_prelude());  // as the resolve compiles it
   sl_test::CaseShader gpu;
   if (!gpu.init(count, cases, shader, 4, &why)) {
     std::fprintf(stderr, "FAIL %s\n", why.c_str());
