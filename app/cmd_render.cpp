@@ -345,7 +345,7 @@ static int render_main(int argc, char **argv)
                 stats.light_height, t_load, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
   if (json) {
     double fwd[3], right[3], up[3];
-    sl::camera_basis(cam, fwd, right, up);
+    sl_camera_basis(&cam, fwd, right, up);
     cJSON *root = cJSON_CreateObject();
     cJSON *c = cJSON_AddObjectToObject(root, "camera");
     cJSON_AddItemToObject(c, "position", cJSON_CreateDoubleArray(cam.position, 3));

@@ -360,7 +360,7 @@ class Viewer {
     if (!session) return;
     PlaceCamera();
     double fwd[3], right[3], up[3], len = 0;
-    sl::camera_basis(camera, fwd, right, up);
+    sl_camera_basis(&camera, fwd, right, up);
     for (int a = 0; a < 3; ++a) len += (camera.target[a] - camera.position[a]) * (camera.target[a] - camera.position[a]);
     len = std::sqrt(len);
     const double metres_per_pixel = 2.0 * len * std::tan(0.5 * camera.fov_deg * M_PI / 180.0) / camera.height;

@@ -318,24 +318,15 @@ void GpuVolumePass::SetVolumeUniforms(vtkShaderProgram *p)
   p->SetUniform3f("slSun", sun);
 }
 
-// The camera (shaders/view_ray.glsl): its basis as sl__camera_basis builds it, the eye and the
-// content box relative to the lattice's first sample.
+// The camera (shaders/view_ray.glsl): its basis (sl_camera_basis, as the CPU passes take it),
+// the eye and the content box relative to the lattice's first sample.
 void GpuVolumePass::SetViewUniforms(vtkShaderProgram *p)
 {
   sl_renderer_gpu_inputs in;
   sl_renderer_gpu_inputs_get(renderer_, &in);
   const int width = camera_.width, height = camera_.height;
-  double fwd[3], right[3], up[3], len = 0.0;
-  for (int a = 0; a < 3; ++a) fwd[a] = camera_.target[a] - camera_.position[a], len += fwd[a] * fwd[a];
-  for (double &v : fwd) v /= std::sqrt(len);
-  right[0] = fwd[1] * camera_.up[2] - fwd[2] * camera_.up[1];
-  right[1] = fwd[2] * camera_.up[0] - fwd[0] * camera_.up[2];
-  right[2] = fwd[0] * camera_.up[1] - fwd[1] * camera_.up[0];
-  len = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
-  for (double &v : right) v /= len;
-  up[0] = right[1] * fwd[2] - right[2] * fwd[1];
-  up[1] = right[2] * fwd[0] - right[0] * fwd[2];
-  up[2] = right[0] * fwd[1] - right[1] * fwd[0];
+  double fwd[3], right[3], up[3];
+  sl_camera_basis(&camera_, fwd, right, up);
   float eye[3], lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     eye[a] = (float)(camera_.position[a] - in.origin[a]);

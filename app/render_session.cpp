@@ -262,21 +262,6 @@ bool RenderSession::composite(const sl_camera &cam, const sl_image &background, 
   return true;
 }
 
-void camera_basis(const sl_camera &cam, double fwd[3], double right[3], double up[3])
-{
-  double len = 0.0;
-  for (int a = 0; a < 3; ++a) fwd[a] = cam.target[a] - cam.position[a], len += fwd[a] * fwd[a];
-  for (int a = 0; a < 3; ++a) fwd[a] /= std::sqrt(len);
-  right[0] = fwd[1] * cam.up[2] - fwd[2] * cam.up[1];
-  right[1] = fwd[2] * cam.up[0] - fwd[0] * cam.up[2];
-  right[2] = fwd[0] * cam.up[1] - fwd[1] * cam.up[0];
-  const double rn = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
-  for (int a = 0; a < 3; ++a) right[a] /= rn;
-  up[0] = right[1] * fwd[2] - right[2] * fwd[1];
-  up[1] = right[2] * fwd[0] - right[0] * fwd[2];
-  up[2] = right[0] * fwd[1] - right[1] * fwd[0];
-}
-
 bool write_frame(const std::string &path, const sl_camera &cam, const sl_image &frame, const double sun_direction[3],
                  const std::string &scene_text, bool float_exr, float exposure, std::string *why)
 {

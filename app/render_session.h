@@ -62,9 +62,6 @@ class RenderSession {
   bool have_frame_ = false;
 };
 
-// The camera's orthonormal basis: forward (toward the target), right, and up (up made orthogonal).
-void camera_basis(const sl_camera &cam, double fwd[3], double right[3], double up[3]);
-
 // Writes a frame as render does: .exr linear HDR (half, or float) with the camera's matrices, the
 // sun and the scene's text (when not empty) in its header; .png tone-mapped at `exposure`.
 bool write_frame(const std::string &path, const sl_camera &cam, const sl_image &frame, const double sun_direction[3],

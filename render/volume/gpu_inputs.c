@@ -52,7 +52,7 @@ int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, 
                                                  r->model.nwl + 2);
   const sl_scene *sc = &r->scene;
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "resolve: camera position equals the target, or up is parallel to the view");
   sl_sky_view view = {0};
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;
@@ -82,7 +82,7 @@ int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_rende
   memset(out, 0, sizeof *out);
   const sl_scene *sc = &r->scene;
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "resolve: camera position equals the target, or up is parallel to the view");
   out->nwl = r->model.nwl;
   memcpy(out->to_rgb, r->to_rgb, sizeof out->to_rgb);

@@ -353,7 +353,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
   const sl_scene *sc = &r->scene;
   if (!r->light_volume && sl_renderer_build_light_volume(r, err)) return err->code;
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
   sl_sky_view view = {0};
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err)) return err->code;

@@ -53,7 +53,7 @@ int sl_point_lights_project(const sl_camera *cam, const sl_point_light *lights, 
                             int *n_out, sl_error *err)
 {
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "lights: camera position equals the target, or up is parallel to the view");
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0), aspect = (double)cam->width / cam->height;
   /* Pixels are square: side 2 tan_half / height = 1 / f on the image plane at distance 1. */
@@ -110,7 +110,7 @@ void sl_point_lights_draw(const sl_light_pixel *lp, int n, const float *transpar
 int sl_night_sky_fill(const sl_camera *cam, const double radiance[3], sl_image *img, sl_error *err)
 {
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "night sky: camera position equals the target, or up is parallel to the view");
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0), aspect = (double)cam->width / cam->height;
   for (int y = 0; y < img->height; ++y)

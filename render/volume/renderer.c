@@ -440,7 +440,7 @@ static inline __attribute__((always_inline)) void light_steps(const sl_light_mod
 }
 
 /* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
-int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
+int sl_camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
 {
   for (int a = 0; a < 3; ++a) fwd[a] = cam->target[a] - cam->position[a];
   if (sl__normalize3(fwd)) return 1;
@@ -794,7 +794,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   if (!(cam->fov_deg > 0.0 && cam->fov_deg < 170.0))
     return sl_fail(err, SL_ERR_ARG, "render: field of view %g degrees is out of range (0, 170)", cam->fov_deg);
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
   if (r->scene.light_volume && r->any_extinction) return sl__render_with_light_volume(r, cam, img, stats, err);
 
@@ -938,7 +938,7 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
   if (sc->atmosphere && sl_sky_view_init(&view, sc->atmosphere, cam->position, sc->sun_direction, err))
     return err->code;
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up))
+  if (sl_camera_basis(cam, fwd, right, up))
     return sl_fail(err, SL_ERR_ARG, "background: camera position equals the target, or up is parallel to the view");
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
@@ -1031,7 +1031,7 @@ void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg,
 int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
 {
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up)) return 1;
+  if (sl_camera_basis(cam, fwd, right, up)) return 1;
   sl__pixel_ray(fwd, right, up, tan(0.5 * cam->fov_deg * M_PI / 180.0), (double)cam->width / cam->height, cam->width,
                 cam->height, px, py, d);
   return 0;
@@ -1055,7 +1055,7 @@ void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, f
 void sl_image_opaque_depth(const sl_camera *cam, const float *distance, sl_image *img)
 {
   double fwd[3], right[3], up[3];
-  if (sl__camera_basis(cam, fwd, right, up)) return;
+  if (sl_camera_basis(cam, fwd, right, up)) return;
 #pragma omp parallel for schedule(static)
   for (int py = 0; py < cam->height; ++py)
     for (int px = 0; px < cam->width; ++px) {

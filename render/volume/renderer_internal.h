@@ -231,7 +231,6 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }
-int sl__camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
 void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
                    int width, int height, int px, int py, double d[3]);
 /* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth

@@ -128,6 +128,9 @@ void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]
  * enough that the box's bounding sphere fills the view. */
 void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
                      double fov_deg, int width, int height, sl_camera *cam);
+/* The camera's orthonormal basis: forward (toward the target), right (forward x up) and up
+ * (made orthogonal); returns 1 when the position equals the target or up is parallel to the view. */
+int sl_camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
 /* Unit vector toward a sun at compass azimuth (clockwise from north) and elevation, degrees. */
 void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
 
