@@ -170,14 +170,14 @@ static inline __attribute__((always_inline)) sl__v4f sl__trilinear_v4f(const flo
 
 /* A field look-up in two steps, so that a pass can find a batch of samples' cells (and prefetch
  * them) before it loads any: the loads of a batch then overlap instead of each waiting on memory
- * in turn (the field fetch is most of the slicer's time; docs/PERFORMANCE.md). */
+ * in turn (at 256^3 the light pass waits on these loads; docs/PERFORMANCE.md, session 6). */
 typedef struct sl__field_cell {
   const float *c; /* the cell's lowest corner in the interleaved field array */
   float f[3];     /* the fractions within it */
 } sl__field_cell;
 
 /* The cell of x (the lattice rule of sl_grid_sample); 0 outside the box or in an empty brick,
- * where every field is zero. Prefetches the cell's eight corners when asked. */
+ * where every field is zero. Prefetches the cell's four rows (its eight corners) when asked. */
 static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_renderer *r, const int nf,
                                                                    const double x[3], const int prefetch,
                                                                    sl__field_cell *cell)
