@@ -365,7 +365,7 @@ void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const doub
 typedef struct light_buffer {
   int w, h;
   double a[3], b[3];   /* texel axes, unit, perpendicular to the propagation direction */
-  double amin, bmin, texel, inv_texel;
+  double amin, bmin, texel_a, texel_b, inv_texel_a, inv_texel_b; /* texel sizes along a and b */
   int stride;          /* nwl intensities (relative to the sunlight above the volume) and n */
   float *state;        /* per texel: I per wavelength, then the expected scattering count n */
   float *u_in, *u_out; /* each texel ray's interval in the box */
@@ -406,11 +406,34 @@ static void tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k
   t->k[2 * i] = lo, t->k[2 * i + 1] = hi;
 }
 
+/* The light-buffer texel along the unit axis u (perpendicular to the sunlight) over a box extent
+ * long, given the pixel's size (metres) at the content: as long as the pixel, but no longer than
+ * the step that moves one spacing along some grid axis (u's largest component in cells), and no
+ * shorter than the grid's Nyquist step along u (the projected trilinear field has no frequency
+ * above sum_a |u_a| / (2 spacing_a) along u). Axes of one sample do not count. Then within
+ * 128..limit texels over the extent (and at most 2048). */
+static double light_texel_resolving(const sl_volume *shape, const double u[3], double extent, double pixel, int limit)
+{
+  const int n[3] = {shape->nx, shape->ny, shape->nz};
+  double cell = INFINITY, cycles = 0.0;
+  for (int a = 0; a < 3; ++a)
+    if (n[a] > 1 && fabs(u[a]) > 1e-12) {
+      cell = fmin(cell, shape->spacing[a] / fabs(u[a]));
+      cycles += fabs(u[a]) / shape->spacing[a];
+    }
+  const double nyquist = cycles > 0.0 ? 1.0 / cycles : INFINITY;
+  const double texel = fmin(cell, fmax(nyquist, pixel));
+  double count = isfinite(texel) && texel > 0.0 ? ceil(extent / texel - 1e-9) : 128.0;
+  if (limit > 2048) limit = 2048;
+  count = count < 128.0 ? 128.0 : count > limit ? limit : count;
+  return extent > 0.0 ? extent / count : 1.0;
+}
+
 /* Bilinear look-up of the light buffer's state (I per wavelength and n) at x's projection. */
 static void light_lookup(const light_buffer *L, const double x[3], double *out)
 {
-  double fa = (sl__dot3(L->a, x) - L->amin) * L->inv_texel - 0.5;
-  double fb = (sl__dot3(L->b, x) - L->bmin) * L->inv_texel - 0.5;
+  double fa = (sl__dot3(L->a, x) - L->amin) * L->inv_texel_a - 0.5;
+  double fb = (sl__dot3(L->b, x) - L->bmin) * L->inv_texel_b - 0.5;
   fa = fa < 0.0 ? 0.0 : fa > L->w - 1 ? L->w - 1 : fa;
   fb = fb < 0.0 ? 0.0 : fb > L->h - 1 ? L->h - 1 : fb;
   int i = (int)fa, j = (int)fb;
@@ -517,7 +540,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
 #pragma omp for schedule(static)
     for (size_t t = 0; t < nl; ++t) {
       const int i = (int)(t % L.w), j = (int)(t / L.w);
-      const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+      const double ca = L.amin + (i + 0.5) * L.texel_a, cb = L.bmin + (j + 0.5) * L.texel_b;
       const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
       double u0, u1;
       float *st = L.state + t * L.stride;
@@ -712,7 +735,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len))
           continue;
         const int i = tx, j = ty;
-        const double ca = L.amin + (i + 0.5) * L.texel, cb = L.bmin + (j + 0.5) * L.texel;
+        const double ca = L.amin + (i + 0.5) * L.texel_a, cb = L.bmin + (j + 0.5) * L.texel_b;
         const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
                              ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
         light_samples++;
@@ -845,27 +868,30 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       if (b < L.bmin) L.bmin = b;
       if (b > bmax) bmax = b;
     }
-    const double extent = fmax(amax - L.amin, bmax - L.bmin);
-    int res = sc->light_resolution;
-    if (res == 0) {
-      /* Resolve one grid spacing along every axis as the sun sees it: axis a foreshortens by
-       * sqrt(1 - p_a^2) on the light buffer; within 64..2048 texels. */
-      double texel = INFINITY;
-      for (int a = 0; a < 3; ++a) {
-        const double foreshortening = sqrt(fmax(0.0, 1.0 - prop[a] * prop[a]));
-        if (foreshortening > 0.05) texel = fmin(texel, r->shape.spacing[a] * foreshortening);
-      }
-      res = (int)ceil(extent / texel);
-      /* Shadows finer than twice the image's resolution cannot be seen. */
+    const double extent_a = amax - L.amin, extent_b = bmax - L.bmin;
+    if (sc->light_resolution > 0) {
+      /* Square texels, light_resolution of them along the longer side. */
+      L.texel_a = L.texel_b = fmax(extent_a, extent_b) / sc->light_resolution;
+    } else {
+      /* Per buffer axis (light_texel_resolving): shadows as fine as a pixel at the content's
+       * centre shows them, but every cell the sun's rays cross sampled, and nothing finer than the
+       * grid holds. On a flat WRF grid under a low sun the axis across the layers then follows the
+       * vertical spacing and the other the horizontal, where the earlier square texel (the finest
+       * foreshortened spacing on both axes) left the layers 44 texels and spent 512 on the
+       * horizontal. At most max(512, the image's longer side) texels per axis: finer shadows than
+       * twice the image's resolution cannot be seen. Measured in PERFORMANCE.md, session 7. */
       const int side = img->width > img->height ? img->width : img->height;
       const int image_limit = side > 512 ? side : 512;
-      if (res > image_limit) res = image_limit;
-      res = res < 64 ? 64 : res > 2048 ? 2048 : res;
+      double to_centre[3];
+      for (int a = 0; a < 3; ++a) to_centre[a] = r->content_center[a] - cam->position[a];
+      const double pixel = sqrt(sl__dot3(to_centre, to_centre)) * 2.0 * tan(0.5 * cam->fov_deg * M_PI / 180.0) /
+                           (img->height > 0 ? img->height : 1);
+      L.texel_a = light_texel_resolving(&r->shape, L.a, extent_a, pixel, image_limit);
+      L.texel_b = light_texel_resolving(&r->shape, L.b, extent_b, pixel, image_limit);
     }
-    L.texel = extent / res;
-    L.inv_texel = 1.0 / L.texel;
-    L.w = (int)ceil((amax - L.amin) / L.texel - 1e-9);
-    L.h = (int)ceil((bmax - L.bmin) / L.texel - 1e-9);
+    L.inv_texel_a = 1.0 / L.texel_a, L.inv_texel_b = 1.0 / L.texel_b;
+    L.w = (int)ceil(extent_a * L.inv_texel_a - 1e-9);
+    L.h = (int)ceil(extent_b * L.inv_texel_b - 1e-9);
     if (L.w < 1) L.w = 1;
     if (L.h < 1) L.h = 1;
   }

@@ -1,9 +1,14 @@
 // bench_render [STORM.nc] [--grid N] [--repeat N] [--quick] [--only I,J,...] [--march-samples N]
+//              [--slices N] [--light-resolution N] [--termination T]
 // Times the CPU half-angle slicer: load, plan, light pass, eye pass, frame and EXR write, for the
 // low-albedo model and the multiple-scattering lighting at 3 and 16 wavelengths, at 512x512 with
 // 256 slices and 768x768 with 512 slices. With --grid N the storm is resampled (trilinearly) to
 // N^3 samples over its box first. In the same run, on the same grid at 512x512, it times VTK's
-// vtkFixedPointVolumeRayCastMapper with shading and prints the ratios.
+// vtkFixedPointVolumeRayCastMapper with shading and prints the ratios. --slices overrides the
+// slicer rows' slice counts, --light-resolution sets square texels (0: the renderer's choice) and
+// --termination the eye's termination transparency (1e-6, as stormlight render): the knobs whose
+// speed and image cost docs/PERFORMANCE.md measures. The 3-wavelength 512^2 frame is written to
+// /tmp/bench_render.exr for 'stormlight compare'.
 #include <omp.h>
 #include <time.h>
 #include <vtkCamera.h>
@@ -92,7 +97,8 @@ Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep)
 int main(int argc, char **argv)
 {
   std::string storm = "datasets/cumulonimbus.nc";
-  int grid = 0, repeat = 3, march_samples = 0;
+  int grid = 0, repeat = 3, march_samples = 0, light_resolution = 0, slices = 0;
+  double termination = 1e-6;
   bool quick = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -101,6 +107,9 @@ int main(int argc, char **argv)
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--march-samples") && i + 1 < argc) march_samples = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--light-resolution") && i + 1 < argc) light_resolution = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--slices") && i + 1 < argc) slices = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--termination") && i + 1 < argc) termination = std::atof(argv[++i]);
     else storm = argv[i];
   }
   const int threads = omp_get_max_threads();
@@ -184,8 +193,9 @@ int main(int argc, char **argv)
     sc.atmosphere = c.spectral ? &atm16 : &atm3;
     sc.optics = c.spectral ? opt16.get() : opt3.get();
     sc.lighting = c.lighting;
-    sc.slices = c.slices;
-    sc.termination_transparency = 1e-6;
+    sc.slices = slices > 0 && c.slices > 0 ? slices : c.slices;
+    sc.termination_transparency = termination;
+    sc.light_resolution = light_resolution;
     sc.light_volume = c.light_volume;
     sc.march_samples = march_samples;  // the light-volume rows' eye samples per cell (0: the default, 2)
     sc.baseline_isa = c.baseline_isa;
