@@ -121,25 +121,27 @@ SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL
   return sl_log_product_at(SL_MODEL_ARG j, c, n + events) - sl_log_product_at(SL_MODEL_ARG j, c, n);
 }
 
-/* The fraction of the light per wavelength left after a path len through a sample of extinction
- * beta[j] per field (m^-1) that the light reaches having scattered n times on average: eq. 24
- * (taken continuously) or eq. 25 by the model's mode; the plain transparency for the low-albedo
- * model. */
-SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, SL_REAL len,
-                                    SL_OUT_ARRAY(SL_REAL, fraction, SL_MAX_WAVELENGTHS))
+/* The light per wavelength left after a path len through a sample of extinction beta[j] per field
+ * (m^-1) that the light reaches having scattered n times on average, as its exponents: returns the
+ * optical depth ext len (the unscattered part is exp(-ext len)) and gives per wavelength the log of
+ * the forward fraction kept by the scattered part, eq. 24 (taken continuously) or eq. 25 by the
+ * model's mode; -1e30 (a kept fraction of 0) where nothing scatters and for the low-albedo model,
+ * whose fraction is the plain transparency. sl_light_fraction_from takes the exponentials: apart,
+ * so that the CPU's eye pass can take those of a whole batch of samples in one vector loop. */
+SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n,
+                                              SL_REAL len, SL_OUT_ARRAY(SL_REAL, log_kept, SL_MAX_WAVELENGTHS))
 {
   SL_REAL ext = 0.0;
   SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) ext += beta[j];
-  SL_REAL transparency = sl_exp(-ext * len);
+  if (SL_MODE == SL_MODE_LOW_ALBEDO) {
+    SL_UNROLL
+    for (int c = 0; c < SL_NWL; ++c) log_kept[c] = -1e30;
+    return ext * len;
+  }
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
   SL_REAL per_event = rate > 0.0 ? 1.0 / rate : 0.0;
-  if (SL_MODE == SL_MODE_LOW_ALBEDO) {
-    SL_UNROLL
-    for (int c = 0; c < SL_NWL; ++c) fraction[c] = transparency;
-    return;
-  }
   /* Without a scatterer here the light keeps only the transparency. A selection rather than an
    * early return, with every table look-up unconditional, so that the CPU's loop over a slice's
    * samples vectorises (the mode is the same for all samples: the CPU compiles a loop per mode). */
@@ -152,7 +154,7 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
   for (int j = 0; j < SL_NF; ++j) share[j] = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
   SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) {
-    SL_REAL kept;
+    SL_REAL log_fraction = 0.0;
     if (SL_MODE == SL_MODE_EQ25) {
       /* Riley et al. 2004, eq. 25: the worst-case order's forward fraction to the power of the
        * slab's scattering count (the paper's GPU workaround). */
@@ -164,23 +166,39 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
         f += share[j] * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
         a += share[j] * SL_ALBEDO(j, c);
       }
-      kept = sl_pow(a * f, events);
+      log_fraction = a * f > 0.0 ? events * sl_log(a * f) : -1e30;
     } else {
       /* Eq. 24 with a mix: each field's product weighted geometrically by its share of the
        * events (exact for one field; a mix along a path has no exact per-field split). A field
        * without a share adds nothing (its product may be -inf where a table's F_i is 0). */
-      SL_REAL log_kept = 0.0;
       SL_UNROLL
       for (int j = 0; j < SL_NF; ++j) {
         SL_REAL term = share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
-        log_kept += share[j] > 0.0 ? term : 0.0;
+        log_fraction += share[j] > 0.0 ? term : 0.0;
       }
-      kept = sl_exp(log_kept);
     }
-    /* Eq. 24: what passes unscattered, plus the scattered part that stays in the forward
-     * hemisphere through every event of the slab. */
-    fraction[c] = transparency + (1.0 - transparency) * (scatters ? kept : 0.0);
+    log_kept[c] = scatters ? log_fraction : -1e30;
   }
+  return ext * len;
+}
+
+/* Eq. 24's fraction from the transparency exp(-ext len) and the log of the kept forward fraction
+ * (sl_light_fraction_exponents): what passes unscattered, plus the scattered part that stays in
+ * the forward hemisphere through every event of the slab. */
+SL_INLINE SL_REAL sl_light_fraction_from(SL_REAL transparency, SL_REAL log_kept)
+{
+  return transparency + (1.0 - transparency) * sl_exp(log_kept);
+}
+
+/* The fraction of the light per wavelength left after a path len through the sample (the two
+ * functions above in one). */
+SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, SL_REAL len,
+                                    SL_OUT_ARRAY(SL_REAL, fraction, SL_MAX_WAVELENGTHS))
+{
+  SL_REAL log_kept[SL_MAX_WAVELENGTHS];
+  SL_REAL transparency = sl_exp(-sl_light_fraction_exponents(SL_MODEL_ARG beta, n, len, log_kept));
+  SL_UNROLL
+  for (int c = 0; c < SL_NWL; ++c) fraction[c] = sl_light_fraction_from(transparency, log_kept[c]);
 }
 
 /* Riley et al. 2004, eq. 26's angular term per wavelength at a sample whose light has scattered
@@ -229,6 +247,32 @@ SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
   return SL_INT(sl_ceil(span / max_step - 1e-3));
 }
 
+/* One of sl_segment_scatter_moments_exp's two moments (which = 0 or 1), as a value: a loop over
+ * samples that stores a moment through an array does not vectorise (GCC 12 will not if-convert
+ * it), one that takes the values does. Near x = beta rate len = 0 the Taylor series to x^6
+ * (truncation below 2e-9): the closed form of the second moment cancels to second order there,
+ * which in float costs 1e-3 of relative accuracy already at x = 1e-2. Both forms are computed,
+ * each where it stays finite (the series at 0 and the closed form at 1 where the other is
+ * used), and blended by a 0/1 weight: no branch, so that the CPU's batch loop vectorises. */
+SL_INLINE SL_REAL sl_segment_scatter_moment_exp(int which, SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL e)
+{
+  SL_REAL x = beta * rate * len;
+  SL_REAL taylor = x * x < 0.0625 ? 1.0 : 0.0;
+  SL_REAL xt = x * taylor;
+  SL_REAL xs = x + taylor * (1.0 - x);
+  SL_REAL series, closed;
+  if (which == 0) {
+    series = 1.0 - xt * (1.0 / 2.0 - xt * (1.0 / 6.0 - xt * (1.0 / 24.0 - xt * (1.0 / 120.0 -
+                                                                   xt * (1.0 / 720.0 - xt * (1.0 / 5040.0))))));
+    closed = (1.0 - e) / xs;
+  } else {
+    series = 0.5 - xt * (1.0 / 3.0 - xt * (1.0 / 8.0 - xt * (1.0 / 30.0 - xt * (1.0 / 144.0 -
+                                                                   xt * (1.0 / 840.0 - xt * (1.0 / 5760.0))))));
+    closed = (1.0 - e * (1.0 + xs)) / (xs * xs);
+  }
+  return beta * len * (taylor * series + (1.0 - taylor) * closed);
+}
+
 /* Single scattering over one eye segment of length len with constant extinction beta, when the
  * light reaching the point u metres along it is attenuated by exp(-beta (rate - 1) u) on top of
  * the eye's exp(-beta u): result[0] = beta int_0^len exp(-beta rate u) du and
@@ -239,20 +283,8 @@ SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
 SL_INLINE void sl_segment_scatter_moments_exp(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL e,
                                                SL_OUT_ARRAY(SL_REAL, result, 2))
 {
-  SL_REAL x = beta * rate * len;
-  if (x > -0.25 && x < 0.25) {
-    /* Taylor series to x^6 (truncation below 2e-9): the closed form of result[1] cancels to second
-     * order near x = 0, which in float costs 1e-3 of relative accuracy already at x = 1e-2. */
-    result[0] = beta * len *
-                (1.0 - x * (1.0 / 2.0 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 -
-                                                                                x * (1.0 / 720.0 - x * (1.0 / 5040.0)))))));
-    result[1] = beta * len *
-                (0.5 - x * (1.0 / 3.0 - x * (1.0 / 8.0 - x * (1.0 / 30.0 - x * (1.0 / 144.0 -
-                                                                                x * (1.0 / 840.0 - x * (1.0 / 5760.0)))))));
-    return;
-  }
-  result[0] = beta * len * (1.0 - e) / x;
-  result[1] = beta * len * (1.0 - e * (1.0 + x)) / (x * x);
+  result[0] = sl_segment_scatter_moment_exp(0, beta, len, rate, e);
+  result[1] = sl_segment_scatter_moment_exp(1, beta, len, rate, e);
 }
 
 /* sl_segment_scatter_moments_exp, taking the exponential itself. */
