@@ -408,21 +408,18 @@ static void tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k
 
 /* The light-buffer texel along the unit axis u (perpendicular to the sunlight) over a box extent
  * long, given the pixel's size (metres) at the content: as long as the pixel, but no longer than
- * the step that moves one spacing along some grid axis (u's largest component in cells), and no
- * shorter than the grid's Nyquist step along u (the projected trilinear field has no frequency
- * above sum_a |u_a| / (2 spacing_a) along u). Axes of one sample do not count. Then within
- * 128..limit texels over the extent (and at most 2048). */
+ * the step that moves one spacing along some grid axis (u's largest component in cells); axes of
+ * one sample do not count. Then within 128..limit texels over the extent (and at most 2048). Not
+ * bounded below by the grid's resolution: in optically thick cells the light falls off within a
+ * cell, and where a cloud's surface is oblique to the sun neighbouring texels see that fall-off at
+ * different depths (the glory scene's deck, seen from 6 km: 4.4 % relative RMSE at 128 texels
+ * against 1024, 0.5 % at 512; its 256 slices' own error is 1.2 %). */
 static double light_texel_resolving(const sl_volume *shape, const double u[3], double extent, double pixel, int limit)
 {
   const int n[3] = {shape->nx, shape->ny, shape->nz};
-  double cell = INFINITY, cycles = 0.0;
+  double texel = pixel > 0.0 ? pixel : INFINITY;
   for (int a = 0; a < 3; ++a)
-    if (n[a] > 1 && fabs(u[a]) > 1e-12) {
-      cell = fmin(cell, shape->spacing[a] / fabs(u[a]));
-      cycles += fabs(u[a]) / shape->spacing[a];
-    }
-  const double nyquist = cycles > 0.0 ? 1.0 / cycles : INFINITY;
-  const double texel = fmin(cell, fmax(nyquist, pixel));
+    if (n[a] > 1 && fabs(u[a]) > 1e-12) texel = fmin(texel, shape->spacing[a] / fabs(u[a]));
   double count = isfinite(texel) && texel > 0.0 ? ceil(extent / texel - 1e-9) : 128.0;
   if (limit > 2048) limit = 2048;
   count = count < 128.0 ? 128.0 : count > limit ? limit : count;
@@ -943,12 +940,12 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       L.texel_a = L.texel_b = fmax(extent_a, extent_b) / sc->light_resolution;
     } else {
       /* Per buffer axis (light_texel_resolving): shadows as fine as a pixel at the content's
-       * centre shows them, but every cell the sun's rays cross sampled, and nothing finer than the
-       * grid holds. On a flat WRF grid under a low sun the axis across the layers then follows the
-       * vertical spacing and the other the horizontal, where the earlier square texel (the finest
-       * foreshortened spacing on both axes) left the layers 44 texels and spent 512 on the
-       * horizontal. At most max(512, the image's longer side) texels per axis: finer shadows than
-       * twice the image's resolution cannot be seen. Measured in PERFORMANCE.md, session 7. */
+       * centre shows them, and every cell the sun's rays cross sampled. On a flat WRF grid under a
+       * low sun the axis across the layers then follows the vertical spacing and the other the
+       * horizontal, where the earlier square texel (the finest foreshortened spacing on both axes)
+       * left the layers 44 texels and spent 512 on the horizontal. At most max(512, the image's
+       * longer side) texels per axis: finer shadows than twice the image's resolution cannot be
+       * seen. Measured in PERFORMANCE.md, session 7. */
       const int side = img->width > img->height ? img->width : img->height;
       const int image_limit = side > 512 ? side : 512;
       double to_centre[3];
