@@ -224,6 +224,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
       total += b;
     }
     r->beta[i] = (float)total;
+    if (total > r->beta_max) r->beta_max = total;
     if (total > 0.0) r->any_extinction = 1;
   }
   /* Brick occupancy for empty-space skipping inside the content box. */
@@ -407,17 +408,21 @@ static void tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k
 }
 
 /* The light-buffer texel along the unit axis u (perpendicular to the sunlight) over a box extent
- * long, given the pixel's size (metres) at the content: as long as the pixel, but no longer than
- * the step that moves one spacing along some grid axis (u's largest component in cells); axes of
- * one sample do not count. Then within 128..limit texels over the extent (and at most 2048). Not
- * bounded below by the grid's resolution: in optically thick cells the light falls off within a
- * cell, and where a cloud's surface is oblique to the sun neighbouring texels see that fall-off at
- * different depths (the glory scene's deck, seen from 6 km: 4.4 % relative RMSE at 128 texels
- * against 1024, 0.5 % at 512; its 256 slices' own error is 1.2 %). */
-static double light_texel_resolving(const sl_volume *shape, const double u[3], double extent, double pixel, int limit)
+ * long, given the pixel's size (metres) at the content and the largest extinction: as long as the
+ * pixel or the shortest mean free path, whichever is longer, but no longer than the step that
+ * moves one spacing along some grid axis (u's largest component in cells); axes of one sample do
+ * not count. Then within 128..limit texels over the extent (and at most 2048). Not bounded below
+ * by the grid's resolution: in optically thick cells the light falls off within a cell, and where
+ * a cloud's surface is oblique to the sun neighbouring texels see that fall-off at different
+ * depths (the glory scene's deck, seen from 6 km: 4.4 % relative RMSE at 128 texels against 1024,
+ * 0.5 % at 512; its 256 slices' own error is 1.2 %). Where every cell is optically thin the light
+ * changes little across one, and a texel of a cell serves (the halo's cirrus). */
+static double light_texel_resolving(const sl_volume *shape, const double u[3], double extent, double pixel,
+                                    double beta_max, int limit)
 {
   const int n[3] = {shape->nx, shape->ny, shape->nz};
-  double texel = pixel > 0.0 ? pixel : INFINITY;
+  const double free_path = beta_max > 0.0 ? 1.0 / beta_max : INFINITY;
+  double texel = fmax(pixel > 0.0 ? pixel : 0.0, free_path);
   for (int a = 0; a < 3; ++a)
     if (n[a] > 1 && fabs(u[a]) > 1e-12) texel = fmin(texel, shape->spacing[a] / fabs(u[a]));
   double count = isfinite(texel) && texel > 0.0 ? ceil(extent / texel - 1e-9) : 128.0;
@@ -940,7 +945,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       L.texel_a = L.texel_b = fmax(extent_a, extent_b) / sc->light_resolution;
     } else {
       /* Per buffer axis (light_texel_resolving): shadows as fine as a pixel at the content's
-       * centre shows them, and every cell the sun's rays cross sampled. On a flat WRF grid under a
+       * centre shows them (but no finer than the shortest mean free path), and every cell the
+       * sun's rays cross sampled. On a flat WRF grid under a
        * low sun the axis across the layers then follows the vertical spacing and the other the
        * horizontal, where the earlier square texel (the finest foreshortened spacing on both axes)
        * left the layers 44 texels and spent 512 on the horizontal. At most max(512, the image's
@@ -952,8 +958,8 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       for (int a = 0; a < 3; ++a) to_centre[a] = r->content_center[a] - cam->position[a];
       const double pixel = sqrt(sl__dot3(to_centre, to_centre)) * 2.0 * tan(0.5 * cam->fov_deg * M_PI / 180.0) /
                            (img->height > 0 ? img->height : 1);
-      L.texel_a = light_texel_resolving(&r->shape, L.a, extent_a, pixel, image_limit);
-      L.texel_b = light_texel_resolving(&r->shape, L.b, extent_b, pixel, image_limit);
+      L.texel_a = light_texel_resolving(&r->shape, L.a, extent_a, pixel, r->beta_max, image_limit);
+      L.texel_b = light_texel_resolving(&r->shape, L.b, extent_b, pixel, r->beta_max, image_limit);
     }
     L.inv_texel_a = 1.0 / L.texel_a, L.inv_texel_b = 1.0 / L.texel_b;
     L.w = (int)ceil(extent_a * L.inv_texel_a - 1e-9);

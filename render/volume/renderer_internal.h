@@ -14,6 +14,7 @@ struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
   float *beta;          /* total extinction, m^-1 */
+  double beta_max;      /* its largest value */
   float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
   sl_light_model model;
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
