@@ -57,7 +57,7 @@ void declare_render_options(Options &o)
   o.option("width", "PX", "image width", "512");
   o.option("height", "PX", "image height", "512");
   o.option("slices", "N", "slicing planes across the volume (0 = enough to resolve the grid)", "0");
-  o.option("light-resolution", "N", "light-buffer texels along its longer side (0 = automatic)", "0");
+  o.option("light-resolution", "N", "square light-buffer texels along its longer side (0 = automatic: per axis, about a pixel at the cloud, at most a grid cell)", "0");
   o.option("sun-azimuth", "DEG", "sun azimuth, clockwise from north (with --sun-elevation; default: from the date)");
   o.option("sun-elevation", "DEG", "sun elevation above the horizon (with --sun-azimuth)");
   o.option("date", "ISO8601", "UTC date-time that places the sun over the grid's centre (default: the file's time)");
