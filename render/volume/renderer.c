@@ -585,23 +585,14 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
   long eye_samples = 0, light_samples = 0;
   /* This thread's batch of up to EYE_BATCH of an eye tile's samples in a slice: per sample, and per
-   * wavelength and sample. Separate arrays, reached through pointers: GCC 12 vectorises the loop over the batch
-   * only so (as members of one struct, or named directly, every load is "no vectype"). */
-  int q_s[EYE_BATCH];
-  double beta_s[EYE_BATCH], inv_beta_s[EYE_BATCH], len_s[EYE_BATCH], inv_probe_s[EYE_BATCH];
-  double path_near_s[EYE_BATCH], light_rate_s[EYE_BATCH], depth_s[EYE_BATCH], depth_probe_s[EYE_BATCH];
-  double opacity_s[EYE_BATCH], transparency_s[EYE_BATCH];
-  double log_kept_s[SL_MAX_WAVELENGTHS][EYE_BATCH], l0_s[SL_MAX_WAVELENGTHS][EYE_BATCH];
-  double l1_s[SL_MAX_WAVELENGTHS][EYE_BATCH], source_s[SL_MAX_WAVELENGTHS][EYE_BATCH];
-  double radiance_s[SL_MAX_WAVELENGTHS][EYE_BATCH];
-  int *const b_q = q_s;
-  double *const b_beta = beta_s, *const b_inv_beta = inv_beta_s, *const b_len = len_s;
-  double *const b_inv_probe = inv_probe_s, *const b_path_near = path_near_s, *const b_light_rate = light_rate_s;
-  double *const b_depth = depth_s, *const b_depth_probe = depth_probe_s, *const b_opacity = opacity_s;
-  double *const b_transparency = transparency_s;
-  double(*const b_log_kept)[EYE_BATCH] = log_kept_s, (*const b_l0)[EYE_BATCH] = l0_s;
-  double(*const b_l1)[EYE_BATCH] = l1_s, (*const b_source)[EYE_BATCH] = source_s;
-  double(*const b_radiance)[EYE_BATCH] = radiance_s;
+   * wavelength and sample, in separate arrays that eye_batch_radiance's loops read as vectors. */
+  int b_q[EYE_BATCH];
+  double b_beta[EYE_BATCH], b_inv_beta[EYE_BATCH], b_len[EYE_BATCH], b_inv_probe[EYE_BATCH];
+  double b_path_near[EYE_BATCH], b_light_rate[EYE_BATCH], b_depth[EYE_BATCH], b_depth_probe[EYE_BATCH];
+  double b_opacity[EYE_BATCH], b_transparency[EYE_BATCH];
+  double b_log_kept[SL_MAX_WAVELENGTHS][EYE_BATCH], b_l0[SL_MAX_WAVELENGTHS][EYE_BATCH];
+  double b_l1[SL_MAX_WAVELENGTHS][EYE_BATCH], b_source[SL_MAX_WAVELENGTHS][EYE_BATCH];
+  double b_radiance[SL_MAX_WAVELENGTHS][EYE_BATCH];
 
   {
 #pragma omp for schedule(static)
@@ -921,6 +912,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   sl__box_exit sun_exit;
   sl__box_exit_init(&sun_exit, r->clo, r->chi, sun);
 
+  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   /* Light buffer: an orthographic grid perpendicular to the sunlight covering the box. */
   light_buffer L = {0};
   {
@@ -956,8 +948,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       const int image_limit = side > 512 ? side : 512;
       double to_centre[3];
       for (int a = 0; a < 3; ++a) to_centre[a] = r->content_center[a] - cam->position[a];
-      const double pixel = sqrt(sl__dot3(to_centre, to_centre)) * 2.0 * tan(0.5 * cam->fov_deg * M_PI / 180.0) /
-                           (img->height > 0 ? img->height : 1);
+      const double pixel = sqrt(sl__dot3(to_centre, to_centre)) * 2.0 * tan_half / img->height;
       L.texel_a = light_texel_resolving(&r->shape, L.a, extent_a, pixel, r->beta_max, image_limit);
       L.texel_b = light_texel_resolving(&r->shape, L.b, extent_b, pixel, r->beta_max, image_limit);
     }
@@ -995,7 +986,6 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
   }
   const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
-  const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
   const double h_o = sl__dot3(h, o);
