@@ -137,7 +137,7 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
     return sl_fail(err, SL_ERR_NOMEM, "light volume: %dx%dx%d samples x %d values exceed 2 GB", v->nx, v->ny, v->nz,
                    stride);
   sweep_frame f = {.r = r};
-  f.state = malloc(count * stride * sizeof(float));
+  f.state = sl__huge_alloc(count * stride * sizeof(float)); /* looked up at every eye sample */
   if (!f.state) return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
   const double *sun = r->scene.sun_direction;
   for (int a = 0; a < 3; ++a) f.p[a] = -sun[a];

@@ -203,7 +203,9 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
    * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
   const size_t count = sl_volume_count(scene->volume);
   const int nf = r->model.nf;
-  r->fields = calloc((nf > 0 ? nf : 1) * count + 4, sizeof(float)); /* + 4: sl__field_fetch's last load */
+  const size_t field_bytes = ((nf > 0 ? nf : 1) * count + 4) * sizeof(float); /* + 4: sl__field_fetch's last load */
+  r->fields = sl__huge_alloc(field_bytes);
+  if (r->fields) memset(r->fields, 0, field_bytes);
   if (!r->fields) {
     sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
     sl_renderer_destroy(r);
@@ -262,7 +264,7 @@ void sl_renderer_destroy(sl_renderer *r)
   if (!r) return;
   sl_light_model_free(&r->model);
   free(r->beta);
-  free(r->fields);
+  free(r->fields); /* sl__huge_alloc's memory is posix_memalign's: free releases it */
   free(r->light_volume);
   free(r->occupied);
   free(r);

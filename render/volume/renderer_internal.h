@@ -10,6 +10,9 @@
 #include "lighting.h"
 #include "sl_renderer.h"
 
+/* Memory for a large grid, on huge pages where the system offers them (large_alloc.c); free(). */
+void *sl__huge_alloc(size_t bytes);
+
 struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
