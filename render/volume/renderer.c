@@ -474,6 +474,34 @@ static inline __attribute__((always_inline)) void light_steps(const sl_light_mod
  * a whole tile, 256, the 16-wavelength eye pass ran 1.4x slower than before batching). */
 #define EYE_BATCH 32
 
+/* The table look-ups of a batch of eye samples, in one loop over the samples that vectorises
+ * (gathers), as the light pass's steps do: per sample the exponents of eq. 24's fraction over its
+ * probe path, the expected scattering count at its middle (eq. 21) and eq. 26's angular term there,
+ * times the sunlight over the extinction (sun_per_beta) as the segment gather's source. The
+ * samples are independent (ivdep). */
+static inline __attribute__((always_inline)) void eye_batch_phases(
+    const sl_light_model *m, const int mode, const int nf, const int nwl, const int live,
+    float (*restrict fields)[SL_MAX_FIELDS], const double *restrict n, const double *restrict probe,
+    const double *restrict path_mid, const int *restrict angle_index, const double *restrict angle_weight,
+    double (*restrict sun_per_beta)[EYE_BATCH], double *restrict depth_probe, double (*restrict log_kept)[EYE_BATCH],
+    double (*restrict source)[EYE_BATCH])
+{
+#pragma GCC ivdep
+  for (int s = 0; s < live; ++s) {
+    double lk[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS];
+    depth_probe[s] = sl_light_fraction_exponents(m, mode, nf, nwl, fields[s], n[s], probe[s], lk);
+    const double n_sample =
+        mode != SL_LIGHTING_LOW_ALBEDO ? sl_expected_scatter_count(m, mode, nf, nwl, fields[s], n[s], path_mid[s]) : n[s];
+    sl_eye_phase_at(m, mode, nf, nwl, fields[s], n_sample, angle_index[s], angle_weight[s], phase);
+    for (int c = 0; c < nwl; ++c) {
+      log_kept[c][s] = lk[c];
+      /* scatter_over_segment integrates beta * ...; the source per unit extinction is the phase
+       * term (beta_sca Ams) over beta. */
+      source[c][s] = phase[c] * sun_per_beta[c][s];
+    }
+  }
+}
+
 /* The eye pass's exponentials for a batch of samples (of one tile in one slice), every wavelength:
  * the opacity of each sample's segment, the light the slab keeps over the probe path (eq. 24's
  * fraction from its exponents), the slab's effective extinction, and the closed-form gather of
@@ -595,6 +623,10 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   double b_log_kept[SL_MAX_WAVELENGTHS][EYE_BATCH], b_l0[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double b_l1[SL_MAX_WAVELENGTHS][EYE_BATCH], b_source[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double b_radiance[SL_MAX_WAVELENGTHS][EYE_BATCH];
+  float b_fields[EYE_BATCH][SL_MAX_FIELDS];
+  double b_n[EYE_BATCH], b_probe[EYE_BATCH], b_path_mid[EYE_BATCH], b_sun[SL_MAX_WAVELENGTHS][EYE_BATCH];
+  int b_angle_index[EYE_BATCH];
+  double b_angle_weight[EYE_BATCH];
 
   {
 #pragma omp for schedule(static)
@@ -703,7 +735,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double *rq = ray + q * RAY_STRIDE;
         const double mid = smid[si], len = slen[si];
         const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-        float beta_j[SL_MAX_FIELDS];
+        float *beta_j = b_fields[live];
         {
           const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
           for (int j = 0; j < nf; ++j) beta_j[j] = v[j];
@@ -725,36 +757,39 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) * inv_hp,
                                                sl__box_exit_distance(&sun_exit, x_far)));
         const double inv_beta = 1.0 / beta;
-        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1];
+        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1], sunlight[SL_MAX_WAVELENGTHS];
         light_lookup(&L, nwl + 1, x_near, l0);
         light_lookup(&L, nwl + 1, x_far, l1);
         /* Within the slab, the light keeps fraction(path) of itself (eq. 24 or the plain
          * transparency); its log, per metre of path, is the slab's effective extinction. The
-         * fraction is probed at the segment's middle path; its exponentials wait for the batch. */
+         * fraction is probed at the segment's middle path; its table look-ups wait for the
+         * batch (eye_batch_phases), its exponentials too (eye_batch_radiance). */
         const double path_mid = 0.5 * (path_near + path_far);
-        const double n_here = 0.5 * (l0[nwl] + l1[nwl]);
-        const double probe = fmax(path_mid, 1e-3 * inv_beta);
-        double log_kept[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS], sunlight[SL_MAX_WAVELENGTHS];
-        b_depth_probe[live] = sl_light_fraction_exponents(m, (int)m->mode, nf, nwl, beta_j, n_here, probe, log_kept);
-        const double n_sample = m->mode != SL_LIGHTING_LOW_ALBEDO
-                                    ? sl_expected_scatter_count(m, (int)m->mode, nf, nwl, beta_j, n_here, path_mid)
-                                    : n_here;
-        sl_eye_phase_at(m, (int)m->mode, nf, nwl, beta_j, n_sample, angle_index[q], angle_weight[q], phase);
+        b_n[live] = 0.5 * (l0[nwl] + l1[nwl]);
+        b_path_mid[live] = path_mid;
+        b_probe[live] = fmax(path_mid, 1e-3 * inv_beta);
+        b_angle_index[live] = angle_index[q], b_angle_weight[live] = angle_weight[q];
         sl__sun_at(suntab, x, sunlight);
         b_q[live] = (int)q;
         b_beta[live] = beta, b_inv_beta[live] = inv_beta, b_len[live] = len;
-        b_inv_probe[live] = 1.0 / probe, b_path_near[live] = path_near;
+        b_inv_probe[live] = 1.0 / b_probe[live], b_path_near[live] = path_near;
         b_light_rate[live] = (path_far - path_near) / len;
         b_depth[live] = mid * sl__dot3(rq, fwd);
         for (int c = 0; c < nwl; ++c) {
-          b_log_kept[c][live] = log_kept[c];
           b_l0[c][live] = l0[c], b_l1[c][live] = l1[c];
-          /* scatter_over_segment integrates beta * ...; the source per unit extinction is the
-           * phase term (beta_sca Ams) over beta. */
-          b_source[c][live] = phase[c] * inv_beta * sunlight[c];
+          b_sun[c][live] = sunlight[c] * inv_beta;
         }
         live++;
         }
+        if (m->mode == SL_LIGHTING_MULTIPLE)
+          eye_batch_phases(m, SL_LIGHTING_MULTIPLE, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
+                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+        else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
+          eye_batch_phases(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
+                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+        else
+          eye_batch_phases(m, (int)m->mode, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
+                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
         eye_batch_radiance(nwl, live, b_beta, b_inv_beta, b_len, b_inv_probe, b_path_near, b_light_rate, b_depth_probe,
                            b_log_kept, b_l0, b_l1, b_source, b_opacity, b_transparency, b_radiance);
         for (int s = 0; s < live; ++s) {
