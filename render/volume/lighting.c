@@ -58,6 +58,25 @@ int sl_light_model_init(sl_light_model *m, const sl_scene *sc, sl_error *err)
   return SL_OK;
 }
 
+void sl_light_model_subset(const sl_light_model *m, unsigned mask, sl_light_model *out)
+{
+  memset(out, 0, sizeof *out);
+  out->mode = m->mode, out->nwl = m->nwl, out->xi = m->xi;
+  for (int j = 0; j < m->nf; ++j) {
+    if (!(mask >> j & 1u)) continue;
+    const int k = out->nf++;
+    out->field[k] = m->field[j];
+    out->sigma_ext[k] = m->sigma_ext[j];
+    out->albedo_mean[k] = m->albedo_mean[j];
+    for (int c = 0; c < m->nwl; ++c) {
+      out->albedo[k][c] = m->albedo[j][c];
+      out->table[k][c] = m->table[j][c];
+      out->log_product[k][c] = m->log_product[j][c];
+      out->max_order[k][c] = m->max_order[j][c];
+    }
+  }
+}
+
 void sl_light_model_free(sl_light_model *m)
 {
   for (int j = 0; j < SL_MAX_FIELDS; ++j)

@@ -30,6 +30,12 @@ typedef struct sl_light_model {
 int sl_light_model_init(sl_light_model *m, const sl_scene *scene, sl_error *err);
 void sl_light_model_free(sl_light_model *m);
 
+/* The model restricted to the fields in mask (bit j: m's field j), in m's order. For a sample whose
+ * other fields are zero every function of sl_sample_physics.h gives bitwise the same result with
+ * it (a zero field adds exact zeros to each sum, and its table terms are masked or skipped), over
+ * fewer table reads. The tables stay m's: out is a view, valid while m is, and is not freed. */
+void sl_light_model_subset(const sl_light_model *m, unsigned mask, sl_light_model *out);
+
 /* ln of eq. 24's product of albedo * F_i over the scattering events from n to n + events of
  * field j at wavelength c, continuous in both (the "interpolating in n" that eq. 25 replaced). */
 double sl_log_forward_product(const sl_light_model *m, int j, int c, double n, double events);

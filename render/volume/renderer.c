@@ -457,6 +457,30 @@ static inline __attribute__((always_inline)) void light_lookup(const light_buffe
   }
 }
 
+/* The fields that a batch of samples holds (a batch lies in one tile of one slice: in a storm
+ * mostly one or two of the four, cloud and rain low, ice and snow high), packed to the front of
+ * each sample's array with *model set to the model restricted to them (sl_light_model_subset:
+ * the same results, bitwise, without the absent fields' table reads); returns their count, or nf
+ * (nothing changed) when the batch holds every field or there are no subsets. */
+static inline __attribute__((always_inline)) int batch_fields(const sl_light_model *subsets, const int nf,
+                                                              const int cnt, float (*fields)[SL_MAX_FIELDS],
+                                                              const sl_light_model **model)
+{
+  if (!subsets || nf < 2) return nf;
+  unsigned mask = 0;
+  for (int i = 0; i < cnt; ++i)
+    for (int j = 0; j < nf; ++j) mask |= (unsigned)(fields[i][j] > 0.0f) << j;
+  const int held = __builtin_popcount(mask);
+  if (held == 0 || held >= nf) return nf;
+  int from[SL_MAX_FIELDS], k = 0;
+  for (int j = 0; j < nf; ++j)
+    if (mask >> j & 1u) from[k++] = j;
+  for (int i = 0; i < cnt; ++i)
+    for (int j = 0; j < held; ++j) fields[i][j] = fields[i][from[j]];
+  *model = &subsets[mask];
+  return held;
+}
+
 /* The light steps of one tile's samples in a slice, collected first so that the loop over them
  * vectorises: sample i is texel idx[i], chord seg[i], per-field extinction bj[i]. The texels of a
  * tile are distinct, so the iterations are independent (ivdep). */
@@ -576,6 +600,7 @@ typedef struct slicer_frame {
   int *pk, *angle_index;
   float *angle_weight;
   const sl_phase_table *grid_table;
+  const sl_light_model *subsets; /* per field mask, the model restricted to it (multiple mode), or NULL */
   double fwd[3], right[3], up[3], h[3], prop[3];
   sl__box_exit sun_exit;
   double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
@@ -781,7 +806,19 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         live++;
         }
-        if (m->mode == SL_LIGHTING_MULTIPLE)
+        const sl_light_model *held_model = m;
+        const int held = batch_fields(f->subsets, nf, live, b_fields, &held_model);
+        if (held < nf) { /* multiple mode only */
+          if (held == 1)
+            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, live, b_fields, b_n, b_probe, b_path_mid,
+                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+          else if (nf > 2 && held == 2)
+            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 2, nwl, live, b_fields, b_n, b_probe, b_path_mid,
+                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+          else if (nf > 3 && held == 3)
+            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 3, nwl, live, b_fields, b_n, b_probe, b_path_mid,
+                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+        } else if (m->mode == SL_LIGHTING_MULTIPLE)
           eye_batch_phases(m, SL_LIGHTING_MULTIPLE, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
                            b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
         else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
@@ -853,7 +890,16 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           live++;
         }
         cnt = live;
-        if (m->mode == SL_LIGHTING_MULTIPLE)
+        const sl_light_model *held_model = m;
+        const int held = batch_fields(f->subsets, nf, cnt, bj, &held_model);
+        if (held < nf) { /* multiple mode only: the subsets exist for it */
+          if (held == 1)
+            light_steps(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, cnt, idx, seg, bj, L.state, L.stride);
+          else if (nf > 2 && held == 2)
+            light_steps(held_model, SL_LIGHTING_MULTIPLE, 2, nwl, cnt, idx, seg, bj, L.state, L.stride);
+          else if (nf > 3 && held == 3)
+            light_steps(held_model, SL_LIGHTING_MULTIPLE, 3, nwl, cnt, idx, seg, bj, L.state, L.stride);
+        } else if (m->mode == SL_LIGHTING_MULTIPLE)
           light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
         else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
           light_steps(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
@@ -1026,7 +1072,11 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
   const double h_o = sl__dot3(h, o);
-  slicer_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
+  /* Per field mask the model restricted to those fields, for the batches that hold only some. */
+  sl_light_model *subsets = NULL;
+  if (m->mode == SL_LIGHTING_MULTIPLE && nf > 1 && (subsets = malloc(sizeof(sl_light_model) << nf)))
+    for (unsigned mask = 1; mask < 1u << nf; ++mask) sl_light_model_subset(m, mask, &subsets[mask]);
+  slicer_frame f = {.subsets = subsets, .r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
                     .eye_tiles = &eye_tiles, .light_tiles = &light_tiles, .acc = acc, .ray = ray, .pk = pk,
                     .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
                     .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
@@ -1050,7 +1100,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   free(suntab);
   free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
   free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
-  free(eye_tiles.k), free(light_tiles.k);
+  free(eye_tiles.k), free(light_tiles.k), free(subsets);
   return SL_OK;
 }
 
