@@ -295,18 +295,15 @@ void sl_renderer_set_xi(sl_renderer *r, double xi)
   r->model.xi = xi;
 }
 
-/* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied 8^3
- * bricks, by a walk through the brick lattice (Amanatides & Woo); *first > *last when it crosses
- * none. Bricks are assigned as sl__sample_fields_n assigns a point (its lattice cell, clamped into
- * the grid, divided by 8), so every sample outside the span reads zero: slices there are
- * skipped without changing the image. */
-static void occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
-                          double *first, double *last)
+/* Where the ray o + t d, from t0 on, first enters an occupied 8^3 brick before t1, by a walk
+ * through the brick lattice (Amanatides & Woo) that stops there; INFINITY when it crosses none.
+ * Bricks are assigned as sl__sample_fields_n assigns a point (its lattice cell, clamped into the
+ * grid, divided by 8), so every sample before that point reads zero. */
+static double first_occupied(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1)
 {
   const sl_grid_view *g = &r->beta_view;
   int b[3], b_last[3], step[3];
   double t_next[3], t_delta[3];
-  *first = INFINITY, *last = -INFINITY;
   for (int a = 0; a < 3; ++a) {
     const double u = (o[a] + t0 * d[a] - g->origin[a]) * g->inv_spacing[a];
     const double du = d[a] * g->inv_spacing[a];
@@ -321,19 +318,33 @@ static void occupied_span(const sl_renderer *r, const double o[3], const double 
   }
   double t = t0;
   for (;;) {
+    if (r->occupied[((size_t)b[2] * r->bricks[1] + b[1]) * r->bricks[0] + b[0]]) return t;
     int a = 0;
     if (t_next[1] < t_next[a]) a = 1;
     if (t_next[2] < t_next[a]) a = 2;
-    const double t_exit = t_next[a] < t1 ? t_next[a] : t1;
-    if (r->occupied[((size_t)b[2] * r->bricks[1] + b[1]) * r->bricks[0] + b[0]]) {
-      if (*first > t) *first = t;
-      *last = t_exit;
-    }
-    if (!(t_next[a] < t1)) break;
+    if (!(t_next[a] < t1)) return INFINITY;
     t = t_next[a];
     b[a] += step[a];
     t_next[a] = (step[a] > 0 ? b[a] < b_last[a] : b[a] > 0) ? t_next[a] + t_delta[a] : INFINITY;
   }
+}
+
+/* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied
+ * bricks; *first > *last when it crosses none. Two walks that stop at the first occupied brick,
+ * one from each end (the second along -d), instead of one through the whole stretch: a ray into
+ * a cloud meets occupied bricks soon from both sides, and the empty ones between are not its
+ * business (in the 256^3 storm the whole walks were about 6 % of the frame). */
+static void occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
+                          double *first, double *last)
+{
+  *first = first_occupied(r, o, d, t0, t1);
+  *last = -INFINITY;
+  if (*first == INFINITY) return;
+  const double back[3] = {-d[0], -d[1], -d[2]};
+  /* Back over the whole stretch, not only to *first: a walk that stopped at *first's brick face
+   * could miss that brick by rounding; it cannot miss it here, and t1 stands in if it did. */
+  const double from_end = first_occupied(r, o, back, -t1, -t0);
+  *last = from_end < INFINITY ? -from_end : t1;
 }
 
 /* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1]. */
