@@ -285,9 +285,14 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
       light_volume_sample(r, nwl, xs, l0);
       for (int s = 0; s < nsteps && a[nwl] >= sc->termination_transparency; ++s) {
         double ta = t0 + s * dt, tm = ta + 0.5 * dt;
+        /* The step's cell, found once: for the brick test and, when the brick holds something,
+         * for the fields. */
+        sl__field_cell cell;
+        int in_cell = 1;
         {
           const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
-          const double exit = empty_brick_exit(r, x, d);
+          in_cell = sl__field_cell_at(r, nf, x, 0, &cell);
+          const double exit = in_cell ? -1.0 : empty_brick_exit(r, x, d);
           if (exit >= 0.0) {
             /* Every step whose midpoint lies before the brick's exit samples nothing: go to the
              * first one beyond it, with the light where that step begins. */
@@ -305,8 +310,12 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         const double tb = ta + dt;
         const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
         const double xb[3] = {o[0] + tb * d[0], o[1] + tb * d[1], o[2] + tb * d[2]};
-        float beta_j[SL_MAX_FIELDS];
-        sl__sample_fields_n(r, nf, x, beta_j);
+        /* Outside the cell lattice's box (in an occupied brick's clamp) every field is zero. */
+        float beta_j[SL_MAX_FIELDS] = {0};
+        if (in_cell) {
+          const sl__v4f v = sl__field_fetch(r, nf, &cell);
+          for (int j = 0; j < nf; ++j) beta_j[j] = v[j];
+        }
         double beta = 0.0;
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
         samples++;
