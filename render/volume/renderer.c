@@ -182,6 +182,10 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     sl_renderer_destroy(r);
     return NULL;
   }
+  r->has_subsets = r->model.mode == SL_LIGHTING_MULTIPLE && r->model.nf > 1;
+  if (r->has_subsets)
+    for (unsigned mask = 1; mask < 1u << r->model.nf; ++mask)
+      sl_light_model_subset(&r->model, mask, &r->field_subsets[mask]);
   if (!scene->atmosphere && r->model.nwl != SL_CHANNELS) {
     sl_fail(err, SL_ERR_ARG, "renderer: without an atmosphere the renderer works in its three channels");
     sl_renderer_destroy(r);
@@ -205,12 +209,14 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   const int nf = r->model.nf;
   const size_t field_bytes = ((nf > 0 ? nf : 1) * count + 4) * sizeof(float); /* + 4: sl__field_fetch's last load */
   r->fields = sl__huge_alloc(field_bytes);
-  if (r->fields) memset(r->fields, 0, field_bytes);
   if (!r->fields) {
     sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
     sl_renderer_destroy(r);
     return NULL;
   }
+  /* The loop below writes every field of every sample; zeroed here only the padding (and the
+   * whole array without fields), not 268 MB at 256^3 that the loop then overwrites. */
+  memset(r->fields + (size_t)nf * count, 0, field_bytes - (size_t)nf * count * sizeof(float));
   for (size_t i = 0; i < count; ++i) {
     double total = 0.0;
     for (int j = 0; j < nf; ++j) {
@@ -293,6 +299,7 @@ void sl_renderer_set_xi(sl_renderer *r, double xi)
 {
   r->scene.xi = xi;
   r->model.xi = xi;
+  for (int mask = 0; mask < 1 << SL_MAX_FIELDS; ++mask) r->field_subsets[mask].xi = xi;
 }
 
 /* Where the ray o + t d, from t0 on, first enters an occupied 8^3 brick before t1, by a walk
@@ -1083,11 +1090,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
   const double h_o = sl__dot3(h, o);
-  /* Per field mask the model restricted to those fields, for the batches that hold only some. */
-  sl_light_model *subsets = NULL;
-  if (m->mode == SL_LIGHTING_MULTIPLE && nf > 1 && (subsets = malloc(sizeof(sl_light_model) << nf)))
-    for (unsigned mask = 1; mask < 1u << nf; ++mask) sl_light_model_subset(m, mask, &subsets[mask]);
-  slicer_frame f = {.subsets = subsets, .r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
+  slicer_frame f = {.subsets = r->has_subsets ? r->field_subsets : NULL, .r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
                     .eye_tiles = &eye_tiles, .light_tiles = &light_tiles, .acc = acc, .ray = ray, .pk = pk,
                     .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
                     .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
@@ -1111,7 +1114,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   free(suntab);
   free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
   free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
-  free(eye_tiles.k), free(light_tiles.k), free(subsets);
+  free(eye_tiles.k), free(light_tiles.k);
   return SL_OK;
 }
 

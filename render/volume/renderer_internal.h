@@ -20,6 +20,11 @@ struct sl_renderer {
   double beta_max;      /* its largest value */
   float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
   sl_light_model model;
+  /* Per field mask, the model restricted to those fields (sl_light_model_subset), for the
+   * slicer's batches that hold only some; only in the multiple-scattering model with two or more
+   * fields (has_subsets), kept in step with model.xi. */
+  sl_light_model field_subsets[1 << SL_MAX_FIELDS];
+  int has_subsets;
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
   int spectral;
   unsigned char *occupied;  /* per 8^3 brick: any non-zero extinction within it or one sample
