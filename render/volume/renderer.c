@@ -475,30 +475,6 @@ static inline __attribute__((always_inline)) void light_lookup(const light_buffe
   }
 }
 
-/* The fields that a batch of samples holds (a batch lies in one tile of one slice: in a storm
- * mostly one or two of the four, cloud and rain low, ice and snow high), packed to the front of
- * each sample's array with *model set to the model restricted to them (sl_light_model_subset:
- * the same results, bitwise, without the absent fields' table reads); returns their count, or nf
- * (nothing changed) when the batch holds every field or there are no subsets. */
-static inline __attribute__((always_inline)) int batch_fields(const sl_light_model *subsets, const int nf,
-                                                              const int cnt, float (*fields)[SL_MAX_FIELDS],
-                                                              const sl_light_model **model)
-{
-  if (!subsets || nf < 2) return nf;
-  unsigned mask = 0;
-  for (int i = 0; i < cnt; ++i)
-    for (int j = 0; j < nf; ++j) mask |= (unsigned)(fields[i][j] > 0.0f) << j;
-  const int held = __builtin_popcount(mask);
-  if (held == 0 || held >= nf) return nf;
-  int from[SL_MAX_FIELDS], k = 0;
-  for (int j = 0; j < nf; ++j)
-    if (mask >> j & 1u) from[k++] = j;
-  for (int i = 0; i < cnt; ++i)
-    for (int j = 0; j < held; ++j) fields[i][j] = fields[i][from[j]];
-  *model = &subsets[mask];
-  return held;
-}
-
 /* The light steps of one tile's samples in a slice, collected first so that the loop over them
  * vectorises: sample i is texel idx[i], chord seg[i], per-field extinction bj[i]. The texels of a
  * tile are distinct, so the iterations are independent (ivdep). */
@@ -825,7 +801,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         live++;
         }
         const sl_light_model *held_model = m;
-        const int held = batch_fields(f->subsets, nf, live, b_fields, &held_model);
+        const int held = sl__batch_fields(f->subsets, nf, live, b_fields, &held_model);
         if (held < nf) { /* multiple mode only */
           if (held == 1)
             eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, live, b_fields, b_n, b_probe, b_path_mid,
@@ -909,7 +885,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         cnt = live;
         const sl_light_model *held_model = m;
-        const int held = batch_fields(f->subsets, nf, cnt, bj, &held_model);
+        const int held = sl__batch_fields(f->subsets, nf, cnt, bj, &held_model);
         if (held < nf) { /* multiple mode only: the subsets exist for it */
           if (held == 1)
             light_steps(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, cnt, idx, seg, bj, L.state, L.stride);

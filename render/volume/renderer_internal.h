@@ -240,6 +240,31 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }
+/* The fields that a batch of samples holds (a slicer batch lies in one tile of one slice, a march
+ * batch along a few cells of one ray: in a storm mostly one or two of the four, cloud and rain
+ * low, ice and snow high), packed to the front of each sample's array with *model set to the
+ * model restricted to them (sl_light_model_subset: the same results, bitwise, without the absent
+ * fields' table reads); returns their count, or nf (nothing changed) when the batch holds every
+ * field or there are no subsets. */
+static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light_model *subsets, const int nf,
+                                                              const int cnt, float (*fields)[SL_MAX_FIELDS],
+                                                              const sl_light_model **model)
+{
+  if (!subsets || nf < 2) return nf;
+  unsigned mask = 0;
+  for (int i = 0; i < cnt; ++i)
+    for (int j = 0; j < nf; ++j) mask |= (unsigned)(fields[i][j] > 0.0f) << j;
+  const int held = __builtin_popcount(mask);
+  if (held == 0 || held >= nf) return nf;
+  int from[SL_MAX_FIELDS], k = 0;
+  for (int j = 0; j < nf; ++j)
+    if (mask >> j & 1u) from[k++] = j;
+  for (int i = 0; i < cnt; ++i)
+    for (int j = 0; j < held; ++j) fields[i][j] = fields[i][from[j]];
+  *model = &subsets[mask];
+  return held;
+}
+
 void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
                    int width, int height, int px, int py, double d[3]);
 /* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth

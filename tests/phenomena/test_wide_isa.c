@@ -1,10 +1,11 @@
-/* The slicer's passes exist twice, compiled for baseline x86-64 and for AVX-512 (renderer_internal.h),
- * and must be one renderer: the wide copy vectorises the light steps across a tile's samples
- * (gathers, scatters, libmvec's eight-wide exp) where the baseline runs two at a time, and
- * neither fuses multiplies with adds. Every lighting model, three and sixteen wavelengths, one
- * and two fields (a mixed sample takes the fields' shares), sun in front and behind: the two
- * images must agree to libmvec's last bits (relative RMSE below 1e-6; measured 0). On a CPU without
- * AVX-512 both renders take the baseline and the test says so. */
+/* The slicer's passes and the light-volume march exist twice, compiled for baseline x86-64 and for
+ * AVX-512 (renderer_internal.h), and must be one renderer: the wide copy vectorises the light
+ * steps across a tile's samples and the march's table reads across a ray's steps (gathers,
+ * scatters, libmvec's eight-wide exp) where the baseline runs two at a time, and neither fuses
+ * multiplies with adds. Every lighting model, three and sixteen wavelengths, one and two fields
+ * (a mixed sample takes the fields' shares), sun in front and behind, slicer and light volume:
+ * the two images must agree to libmvec's last bits (relative RMSE below 1e-6; measured 0). On a
+ * CPU without AVX-512 both renders take the baseline and the test says so. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -66,13 +67,14 @@ int main(void)
     fill(&v, fields == 2);
     for (size_t mi = 0; mi < sizeof models / sizeof models[0]; ++mi)
       for (int spec = 0; spec < 2; ++spec)
-        for (int si = 0; si < 2; ++si) {
+        for (int si = 0; si < 2; ++si)
+        for (int lv = 0; lv < 2; ++lv) {
           if (spec && models[mi] != SL_LIGHTING_MULTIPLE) continue;
           sl_image img[2];
           int ok = 1;
           for (int base = 0; base < 2; ++base) {
             sl_scene sc = {.volume = &v, .optics = opt[spec], .atmosphere = spec ? &atm16 : &atm3,
-                           .lighting = models[mi], .xi = 0.05, .baseline_isa = base};
+                           .lighting = models[mi], .xi = 0.05, .baseline_isa = base, .light_volume = lv};
             sl_sun_vector(suns[si][0], suns[si][1], sc.sun_direction);
             /* The volume's layer alone (no sky behind it), so the comparison weighs only the volume. */
             sl_renderer *r = sl_renderer_create(&sc, &err);
@@ -88,8 +90,8 @@ int main(void)
             sl_renderer_destroy(r);
           }
           char name[96];
-          snprintf(name, sizeof name, "%d field(s), %s, %s, sun %g/%g", fields, model_names[mi],
-                   spec ? "16 wl" : "3 wl", suns[si][0], suns[si][1]);
+          snprintf(name, sizeof name, "%s, %d field(s), %s, %s, sun %g/%g", lv ? "light volume" : "slicer", fields,
+                   model_names[mi], spec ? "16 wl" : "3 wl", suns[si][0], suns[si][1]);
           if (!CHECK_MSG(ok, name)) continue;
           double num = 0.0, den = 0.0, peak = 0.0, coverage = 0.0;
           int finite = 1;
@@ -102,7 +104,7 @@ int main(void)
               num += (a - b) * (a - b), den += b * b, peak = fmax(peak, b);
             }
           const double rel = den > 0.0 ? sqrt(num / den) : INFINITY;
-          printf("%-48s relative RMSE %.3g (peak %.3g)\n", name, rel, peak);
+          printf("%-62s relative RMSE %.3g (peak %.3g)\n", name, rel, peak);
           CHECK_MSG(finite && peak > 0.0 && coverage > 0.9, name); /* the blobs are in view and opaque somewhere */
           CHECK_MSG(rel <= 1e-6, name);
           sl_image_free(&img[0]), sl_image_free(&img[1]);
