@@ -468,6 +468,16 @@ static inline __attribute__((always_inline)) void light_lookup(const light_buffe
   const size_t di = L->w > 1 ? (size_t)stride : 0;
   const size_t dj = L->h > 1 ? (size_t)L->w * stride : 0;
   const float *t = L->state + ((size_t)j * L->w + i) * stride;
+  if (stride == 4) {
+    /* Three wavelengths and n: a texel's state is one 4-float vector, lerped at once as the
+     * fields' corners are (sl__trilinear_v4f). */
+    const float fu = (float)u, fv = (float)v;
+    const sl__v4f r0 = sl__load_v4f(t) + fu * (sl__load_v4f(t + di) - sl__load_v4f(t));
+    const sl__v4f r1 = sl__load_v4f(t + dj) + fu * (sl__load_v4f(t + dj + di) - sl__load_v4f(t + dj));
+    const sl__v4f value = r0 + fv * (r1 - r0);
+    for (int c = 0; c < 4; ++c) out[c] = value[c];
+    return;
+  }
   for (int c = 0; c < stride; ++c) {
     const double r0 = t[c] + u * (t[di + c] - t[c]);
     const double r1 = t[dj + c] + u * (t[dj + di + c] - t[dj + c]);
