@@ -21,23 +21,6 @@ static int unit_direction(const double v[3], double out[3], const char *what, sl
   return SL_OK;
 }
 
-double sl_sky_altitude(const sl_atmosphere *atm, const double p[3], double up[3])
-{
-  const double R = atm->ground_radius;
-  if (!(R > 0.0)) {
-    if (up) up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
-    return p[2];
-  }
-  const double c[3] = {p[0], p[1], p[2] + R}; /* from the sphere's centre */
-  const double r = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-  if (up) {
-    if (r > 0.0) up[0] = c[0] / r, up[1] = c[1] / r, up[2] = c[2] / r;
-    else up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
-  }
-  /* r - R without cancellation: (r^2 - R^2) / (r + R), r^2 - R^2 = x^2 + y^2 + z (z + 2R). */
-  return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
-}
-
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 int sl_sky_transparency(const sl_atmosphere *atm, const double a[3], const double b[3],

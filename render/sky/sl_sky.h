@@ -14,6 +14,8 @@
 #ifndef SL_SKY_H
 #define SL_SKY_H
 
+#include <math.h>
+
 #include "sl_sky_sample.h"
 #include "sl_status.h"
 
@@ -69,8 +71,25 @@ int sl_atmosphere_init(sl_atmosphere *atm, const double *wavelength_nm, int coun
                        sl_earth_model earth, sl_rayleigh_source rayleigh, sl_error *err);
 
 /* Height of world point p above the ground (p[2] for the flat ground, |p - centre| - R for the
- * round one) and, when up is not NULL, the unit local vertical there. */
-double sl_sky_altitude(const sl_atmosphere *atm, const double p[3], double up[3]);
+ * round one) and, when up is not NULL, the unit local vertical there. Inline: the volume's eye
+ * passes ask it at every sample (the sunlight there), in loops that vectorise. */
+static inline double sl_sky_altitude(const sl_atmosphere *atm, const double p[3], double up[3])
+{
+  const double R = atm->ground_radius;
+  if (!(R > 0.0)) {
+    if (up) up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
+    return p[2];
+  }
+  const double c[3] = {p[0], p[1], p[2] + R}; /* from the sphere's centre */
+  const double r = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (up) {
+    if (r > 0.0) up[0] = c[0] / r, up[1] = c[1] / r, up[2] = c[2] / r;
+    else up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
+  }
+  /* r - R without cancellation: (r^2 - R^2) / (r + R), r^2 - R^2 = x^2 + y^2 + z (z + 2R). */
+  return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
+}
+
 
 /* Rayleigh volume scattering coefficient of standard air at sea level (m^-1), Bodhaine et al.
  * 1999 eqs. (number density 2.546899e25 m^-3 at 288.15 K and 1013.25 hPa). */

@@ -406,7 +406,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
           double sunlight[SL_MAX_WAVELENGTHS];
           const double x[3] = {o[0] + b_tm[i] * d[0], o[1] + b_tm[i] * d[1], o[2] + b_tm[i] * d[2]};
           sl__sun_at(suntab, x, sunlight);
-          for (int c = 0; c < nwl; ++c) b_sun[c][i] = sunlight[c] / b_beta[i];
+          for (int c = 0; c < nwl; ++c) b_sun[c][i] = sunlight[c];
         }
         for (int c = 0; c <= nwl; ++c) carried[c] = p_state[c][b_end[live - 1]];
         carried_step = b_step[live - 1];
@@ -434,9 +434,10 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         /* The light is linear between a step's ends (the light volume holds it at every point):
          * the slicer's closed-form gather with no extra in-segment attenuation. One exponential
          * serves the step: opacity, transparency and the gather's moments. */
-        double b_m0[MARCH_BATCH], b_m1[MARCH_BATCH];
+        double b_m0[MARCH_BATCH], b_m1[MARCH_BATCH], b_inv_beta[MARCH_BATCH];
 #pragma omp simd
         for (int i = 0; i < live; ++i) {
+          b_inv_beta[i] = 1.0 / b_beta[i];
           b_opacity[i] = -expm1(-b_beta[i] * dt);
           const double e = 1.0 - b_opacity[i];
           b_m0[i] = sl_segment_scatter_moment_exp(0, b_beta[i], dt, 1.0, e);
@@ -445,7 +446,8 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         for (int c = 0; c < nwl; ++c) {
 #pragma omp simd
           for (int i = 0; i < live; ++i)
-            b_radiance[c][i] = (b_l0[c][i] * b_m0[i] + (b_l1[c][i] - b_l0[c][i]) * b_m1[i]) * b_phase[c][i] * b_sun[c][i];
+            b_radiance[c][i] =
+                (b_l0[c][i] * b_m0[i] + (b_l1[c][i] - b_l0[c][i]) * b_m1[i]) * b_phase[c][i] * b_inv_beta[i] * b_sun[c][i];
         }
         /* Front to back, until the ray's transparency falls below the termination threshold. */
         for (int i = 0; i < live; ++i) {

@@ -61,17 +61,6 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
     }
 }
 
-void sl__sun_at(const sun_table *t, const double x[3], double *out)
-{
-  const double z = t->atm ? sl_sky_altitude(t->atm, x, NULL) : x[2];
-  double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
-  u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
-  int i = (int)u;
-  if (i > SUN_TABLE_SIZE - 2) i = SUN_TABLE_SIZE - 2;
-  const double f = u - i;
-  for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
-}
-
 double sl__dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 void sl__cross3(const double a[3], const double b[3], double out[3])
 {

@@ -57,8 +57,19 @@ void sl__cross3(const double a[3], const double b[3], double out[3]);
 int sl__normalize3(double v[3]);
 void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
                         const double hi[3]);
-/* The sunlight at world point x: the table at x's altitude. */
-void sl__sun_at(const sun_table *t, const double x[3], double *out);
+/* The sunlight at world point x: the table at x's altitude (inline: the eye passes ask it per
+ * sample). */
+static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t, const double x[3], double *out)
+{
+  const double z = t->atm ? sl_sky_altitude(t->atm, x, NULL) : x[2];
+  double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
+  u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
+  int i = (int)u;
+  if (i > SUN_TABLE_SIZE - 2) i = SUN_TABLE_SIZE - 2;
+  const double f = u - i;
+  for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
+}
+
 
 /* Distance from a point inside the box [lo, hi] along dir to the box's boundary, with the face
  * each axis leaves through and its reciprocal prepared once (the slicer's eye pass asks twice per
