@@ -31,9 +31,10 @@ static size_t lv_index(const sl_volume *v, int i, int j, int k, int stride)
   return sl_volume_index(v, i, j, k) * (size_t)stride;
 }
 
-/* Bilinear look-up of the light state in plane k of axis `axis` at the fractional in-plane
- * coordinates (u, w) along the two other axes (a1, a2). Returns 0 outside the plane. */
-static int plane_lookup(const sl_renderer *r, const float *state, int axis, int k, double u, double w, double *out)
+/* Bilinear look-up of the light state in a plane across axis `axis` (its samples in rows along
+ * a1, stride floats each) at the fractional in-plane coordinates (u, w) along the two other axes
+ * (a1, a2). Returns 0 outside the plane. */
+static int plane_lookup(const sl_renderer *r, const float *plane, int axis, double u, double w, double *out)
 {
   const sl_volume *v = &r->shape;
   const int n[3] = {v->nx, v->ny, v->nz};
@@ -54,16 +55,11 @@ static int plane_lookup(const sl_renderer *r, const float *state, int axis, int 
   if (j > n[a2] - 2) j = n[a2] > 1 ? n[a2] - 2 : 0;
   const double fu = n[a1] > 1 ? u - i : 0.0, fw = n[a2] > 1 ? w - j : 0.0;
   const int stride = r->model.nwl + 1;
-  int idx[4][3];
-  for (int c = 0; c < 4; ++c) {
-    idx[c][axis] = k;
-    idx[c][a1] = i + ((c & 1) && n[a1] > 1);
-    idx[c][a2] = j + ((c & 2) && n[a2] > 1);
-  }
   const double wt[4] = {(1 - fu) * (1 - fw), fu * (1 - fw), (1 - fu) * fw, fu * fw};
   for (int s = 0; s < stride; ++s) out[s] = 0.0;
   for (int c = 0; c < 4; ++c) {
-    const float *p = state + lv_index(v, idx[c][0], idx[c][1], idx[c][2], stride);
+    const int ci = i + ((c & 1) && n[a1] > 1), cj = j + ((c & 2) && n[a2] > 1);
+    const float *p = plane + ((size_t)cj * n[a1] + ci) * stride;
     for (int s = 0; s < stride; ++s) out[s] += wt[c] * p[s];
   }
   for (int s = 0; s < stride; ++s) out[s] *= 1.0 - fresh; /* fresh light: ln I = 0, n = 0 */
@@ -74,6 +70,10 @@ static int plane_lookup(const sl_renderer *r, const float *state, int axis, int 
 typedef struct sweep_frame {
   const sl_renderer *r;
   float *state;
+  /* The last plane and the one being swept, in rows along a1: the sweep reads the previous
+   * plane from here (a megabyte at 256^2, in cache) instead of from the volume, where a plane
+   * across x or y is a sample every few kilobytes and each look-up missed the cache. */
+  float *plane[2];
   double p[3];           /* the sunlight's propagation */
   int axis, a1, a2, step, first;
   double path;           /* from one plane to the next along the sunlight */
@@ -100,14 +100,15 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
       for (int ii = 0; ii < n[a1]; ++ii) {
         int idx[3];
         idx[axis] = k, idx[a1] = ii, idx[a2] = jj;
-        float *out = state + lv_index(v, idx[0], idx[1], idx[2], stride);
+        float *out = f->plane[kk & 1] + ((size_t)jj * n[a1] + ii) * stride;
+        float *kept = state + lv_index(v, idx[0], idx[1], idx[2], stride);
         double prev[SL_MAX_WAVELENGTHS + 1];
         double x[3];
         for (int a = 0; a < 3; ++a) x[a] = v->origin[a] + idx[a] * v->spacing[a];
         double len = f->path;
         /* The state where this sample's sun ray crossed the previous plane, or fresh sunlight
          * entering the box (through the first plane or a side face) over a shorter path. */
-        if (kk == 0 || !plane_lookup(r, state, axis, k - step, ii + f->shift1, jj + f->shift2, prev)) {
+        if (kk == 0 || !plane_lookup(r, f->plane[(kk - 1) & 1], axis, ii + f->shift1, jj + f->shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
           len = fmin(f->path, sl__box_exit_distance(&f->sun_exit, x));
@@ -123,6 +124,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
           /* Nothing on the path: the light arrives as it left the previous plane. */
           for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)prev[c], LOG_FLOOR);
           out[nwl] = (float)prev[nwl];
+          memcpy(kept, out, (size_t)stride * sizeof *out);
           continue;
         }
         float st[SL_MAX_WAVELENGTHS + 1]; /* I per wavelength, n */
@@ -131,6 +133,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         sl_light_step_at(m, (int)m->mode, nf, nwl, beta, len, st, 0);
         for (int c = 0; c < nwl; ++c) out[c] = st[c] > 0.0f ? fmaxf(logf(st[c]), LOG_FLOOR) : LOG_FLOOR;
         out[nwl] = st[nwl];
+        memcpy(kept, out, (size_t)stride * sizeof *out);
       }
   }
 }
@@ -161,7 +164,15 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   sl_volume_bounds(v, box_lo, box_hi);
   sl__box_exit_init(&f.sun_exit, box_lo, box_hi, sun);
   const double t0 = omp_get_wtime();
+  const size_t plane_floats = (size_t)n[f.a1] * n[f.a2] * stride;
+  f.plane[0] = malloc(2 * plane_floats * sizeof(float));
+  if (!f.plane[0]) {
+    free(f.state);
+    return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
+  }
+  f.plane[1] = f.plane[0] + plane_floats;
   SL_RUN_SPECIALISED(sweep_planes, &f, r->model.nf, nwl);
+  free(f.plane[0]);
   free(r->light_volume);
   r->light_volume = f.state;
   r->light_volume_seconds = omp_get_wtime() - t0;
