@@ -90,7 +90,6 @@ static inline double sl_sky_altitude(const sl_atmosphere *atm, const double p[3]
   return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
 }
 
-
 /* Rayleigh volume scattering coefficient of standard air at sea level (m^-1), Bodhaine et al.
  * 1999 eqs. (number density 2.546899e25 m^-3 at 288.15 K and 1013.25 hPa). */
 double sl_rayleigh_beta_standard_air(double wavelength_nm);

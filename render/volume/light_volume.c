@@ -424,24 +424,10 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         /* Eq. 26's angular term, over only the fields the batch holds (bitwise the same). */
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(subsets, nf, live, b_fields, &held_model);
-        if (held < nf) { /* multiple mode only */
-          if (held == 1)
-            march_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, live, b_fields, b_n, angle_index,
-                               angle_weight, b_phase);
-          else if (nf > 2 && held == 2)
-            march_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 2, nwl, live, b_fields, b_n, angle_index,
-                               angle_weight, b_phase);
-          else if (nf > 3 && held == 3)
-            march_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 3, nwl, live, b_fields, b_n, angle_index,
-                               angle_weight, b_phase);
-        } else if (m->mode == SL_LIGHTING_MULTIPLE)
-          march_batch_phases(m, SL_LIGHTING_MULTIPLE, nf, nwl, live, b_fields, b_n, angle_index, angle_weight,
-                             b_phase);
-        else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
-          march_batch_phases(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, live, b_fields, b_n, angle_index, angle_weight,
-                             b_phase);
-        else
-          march_batch_phases(m, (int)m->mode, nf, nwl, live, b_fields, b_n, angle_index, angle_weight, b_phase);
+#define MARCH_PHASES(model, mode, count) \
+  march_batch_phases(model, mode, count, nwl, live, b_fields, b_n, angle_index, angle_weight, b_phase)
+        SL_WITH_BATCH_MODEL(m, held_model, held, nf, MARCH_PHASES);
+#undef MARCH_PHASES
         /* The light is linear between a step's ends (the light volume holds it at every point):
          * the slicer's closed-form gather with no extra in-segment attenuation. One exponential
          * serves the step: opacity, transparency and the gather's moments. */

@@ -801,25 +801,11 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, live, b_fields, &held_model);
-        if (held < nf) { /* multiple mode only */
-          if (held == 1)
-            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, live, b_fields, b_n, b_probe, b_path_mid,
-                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
-          else if (nf > 2 && held == 2)
-            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 2, nwl, live, b_fields, b_n, b_probe, b_path_mid,
-                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
-          else if (nf > 3 && held == 3)
-            eye_batch_phases(held_model, SL_LIGHTING_MULTIPLE, 3, nwl, live, b_fields, b_n, b_probe, b_path_mid,
-                             b_angle_index, b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
-        } else if (m->mode == SL_LIGHTING_MULTIPLE)
-          eye_batch_phases(m, SL_LIGHTING_MULTIPLE, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
-                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
-        else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
-          eye_batch_phases(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
-                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
-        else
-          eye_batch_phases(m, (int)m->mode, nf, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index,
-                           b_angle_weight, b_sun, b_depth_probe, b_log_kept, b_source);
+#define EYE_PHASES(model, mode, count) \
+  eye_batch_phases(model, mode, count, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index, b_angle_weight, \
+                   b_sun, b_depth_probe, b_log_kept, b_source)
+        SL_WITH_BATCH_MODEL(m, held_model, held, nf, EYE_PHASES);
+#undef EYE_PHASES
         eye_batch_radiance(nwl, live, b_beta, b_inv_beta, b_len, b_inv_probe, b_path_near, b_light_rate, b_depth_probe,
                            b_log_kept, b_l0, b_l1, b_source, b_opacity, b_transparency, b_radiance);
         for (int s = 0; s < live; ++s) {
@@ -885,19 +871,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         cnt = live;
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, cnt, bj, &held_model);
-        if (held < nf) { /* multiple mode only: the subsets exist for it */
-          if (held == 1)
-            light_steps(held_model, SL_LIGHTING_MULTIPLE, 1, nwl, cnt, idx, seg, bj, L.state, L.stride);
-          else if (nf > 2 && held == 2)
-            light_steps(held_model, SL_LIGHTING_MULTIPLE, 2, nwl, cnt, idx, seg, bj, L.state, L.stride);
-          else if (nf > 3 && held == 3)
-            light_steps(held_model, SL_LIGHTING_MULTIPLE, 3, nwl, cnt, idx, seg, bj, L.state, L.stride);
-        } else if (m->mode == SL_LIGHTING_MULTIPLE)
-          light_steps(m, SL_LIGHTING_MULTIPLE, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
-        else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
-          light_steps(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
-        else
-          light_steps(m, (int)m->mode, nf, nwl, cnt, idx, seg, bj, L.state, L.stride);
+#define LIGHT_STEPS(model, mode, count) light_steps(model, mode, count, nwl, cnt, idx, seg, bj, L.state, L.stride)
+        SL_WITH_BATCH_MODEL(m, held_model, held, nf, LIGHT_STEPS);
+#undef LIGHT_STEPS
       }
 #pragma omp master
       {

@@ -276,6 +276,21 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
   return held;
 }
 
+/* Calls CALL(model, mode, count) for a batch whose fields sl__batch_fields packed: with the
+ * subset model and its field count as a constant when the batch holds fewer than nf fields
+ * (multiple mode only, where subsets exist), else with the whole model, and the mode as a
+ * constant for the two common ones, so that each call's loops unroll and vectorise for it. */
+#define SL_WITH_BATCH_MODEL(m, held_model, held, nf, CALL) \
+  do { \
+    if ((held) < (nf)) { \
+      if ((held) == 1) CALL((held_model), SL_LIGHTING_MULTIPLE, 1); \
+      else if ((nf) > 2 && (held) == 2) CALL((held_model), SL_LIGHTING_MULTIPLE, 2); \
+      else if ((nf) > 3 && (held) == 3) CALL((held_model), SL_LIGHTING_MULTIPLE, 3); \
+    } else if ((m)->mode == SL_LIGHTING_MULTIPLE) CALL((m), SL_LIGHTING_MULTIPLE, (nf)); \
+    else if ((m)->mode == SL_LIGHTING_LOW_ALBEDO) CALL((m), SL_LIGHTING_LOW_ALBEDO, (nf)); \
+    else CALL((m), (int)(m)->mode, (nf)); \
+  } while (0)
+
 void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
                    int width, int height, int px, int py, double d[3]);
 /* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth
