@@ -111,7 +111,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         if (kk == 0 || !plane_lookup(r, f->plane[(kk - 1) & 1], axis, ii + f->shift1, jj + f->shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
-          len = fmin(f->path, sl__box_exit_distance(&f->sun_exit, x));
+          len = sl__min(f->path, sl__box_exit_distance(&f->sun_exit, x));
           if (kk == 0) len = 0.5 * v->spacing[axis] / fabs(p[axis]);
         }
         /* Fields at the middle of the path since the previous plane. */

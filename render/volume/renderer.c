@@ -300,27 +300,31 @@ static double first_occupied(const sl_renderer *r, const double o[3], const doub
   const sl_grid_view *g = &r->beta_view;
   int b[3], b_last[3], step[3];
   double t_next[3], t_delta[3];
+  const ptrdiff_t stride[3] = {1, r->bricks[0], (ptrdiff_t)r->bricks[0] * r->bricks[1]};
   for (int a = 0; a < 3; ++a) {
     const double u = (o[a] + t0 * d[a] - g->origin[a]) * g->inv_spacing[a];
     const double du = d[a] * g->inv_spacing[a];
     b_last[a] = sl__last_brick(g, a);
     const double cell = u < 0.0 ? 0.0 : floor(u);
-    b[a] = (int)fmin(cell / 8.0, (double)b_last[a]);
+    b[a] = (int)sl__min(cell / 8.0, (double)b_last[a]);
     if (b[a] < 0) b[a] = 0;
     step[a] = du > 0.0 ? 1 : du < 0.0 ? -1 : 0;
     t_next[a] = INFINITY, t_delta[a] = INFINITY;
     if (step[a] > 0 && b[a] < b_last[a]) t_next[a] = t0 + (8.0 * (b[a] + 1) - u) / du, t_delta[a] = 8.0 / du;
     if (step[a] < 0 && b[a] > 0) t_next[a] = t0 + (8.0 * b[a] - u) / du, t_delta[a] = -8.0 / du;
   }
+  /* The brick's flag, followed by offset as the walk steps (no index product per brick). */
+  const unsigned char *flag = r->occupied + b[2] * stride[2] + b[1] * stride[1] + b[0];
   double t = t0;
   for (;;) {
-    if (r->occupied[((size_t)b[2] * r->bricks[1] + b[1]) * r->bricks[0] + b[0]]) return t;
+    if (*flag) return t;
     int a = 0;
     if (t_next[1] < t_next[a]) a = 1;
     if (t_next[2] < t_next[a]) a = 2;
     if (!(t_next[a] < t1)) return INFINITY;
     t = t_next[a];
     b[a] += step[a];
+    flag += step[a] * stride[a];
     t_next[a] = (step[a] > 0 ? b[a] < b_last[a] : b[a] > 0) ? t_next[a] + t_delta[a] : INFINITY;
   }
 }
@@ -703,8 +707,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       occupied_span(r, o, d, t0, t1, &first, &last);
       if (first > last) continue; /* the ray crosses only empty bricks */
       const double s0 = h_o + first * rq[5], s1 = h_o + last * rq[5];
-      pk[2 * q] = (int)floor((fmin(s0, s1) - smin) / ds) - 1;
-      pk[2 * q + 1] = (int)floor((fmax(s0, s1) - smin) / ds) + 1;
+      pk[2 * q] = (int)floor((sl__min(s0, s1) - smin) / ds) - 1;
+      pk[2 * q + 1] = (int)floor((sl__max(s0, s1) - smin) / ds) + 1;
     }
     const size_t n_eye_tiles = (size_t)eye_tiles.nx * eye_tiles.ny, n_light_tiles = (size_t)light_tiles.nx * light_tiles.ny;
 #pragma omp for schedule(static)
@@ -770,10 +774,10 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
         const double s_start = sk - 0.5 * ds;
-        const double path_near = fmax(0.0, fmin((sl__dot3(h, x_near) - s_start) * inv_hp,
-                                                sl__box_exit_distance(&sun_exit, x_near)));
-        const double path_far = fmax(0.0, fmin((sl__dot3(h, x_far) - s_start) * inv_hp,
-                                               sl__box_exit_distance(&sun_exit, x_far)));
+        const double path_near =
+            sl__max(sl__min((sl__dot3(h, x_near) - s_start) * inv_hp, sl__box_exit_distance(&sun_exit, x_near)), 0.0);
+        const double path_far =
+            sl__max(sl__min((sl__dot3(h, x_far) - s_start) * inv_hp, sl__box_exit_distance(&sun_exit, x_far)), 0.0);
         const double inv_beta = 1.0 / beta;
         double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1], sunlight[SL_MAX_WAVELENGTHS];
         light_lookup(&L, nwl + 1, x_near, l0);
@@ -785,7 +789,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const double path_mid = 0.5 * (path_near + path_far);
         b_n[live] = 0.5 * (l0[nwl] + l1[nwl]);
         b_path_mid[live] = path_mid;
-        b_probe[live] = fmax(path_mid, 1e-3 * inv_beta);
+        b_probe[live] = sl__max(path_mid, 1e-3 * inv_beta);
         b_angle_index[live] = angle_index[q], b_angle_weight[live] = angle_weight[q];
         sl__sun_at(suntab, x, sunlight);
         b_q[live] = (int)q;

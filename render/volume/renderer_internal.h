@@ -71,6 +71,12 @@ static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t,
 }
 
 
+/* The larger and the smaller of two finite numbers, inline: without -ffinite-math-only GCC calls
+ * libm's fmax and fmin (through the PLT), which the eye pass did five times per sample. A NaN
+ * in a gives b, as fmax and fmin do. */
+static inline double sl__max(double a, double b) { return a > b ? a : b; }
+static inline double sl__min(double a, double b) { return a < b ? a : b; }
+
 /* Distance from a point inside the box [lo, hi] along dir to the box's boundary, with the face
  * each axis leaves through and its reciprocal prepared once (the slicer's eye pass asks twice per
  * sample toward the sun; six divisions there were a tenth of its time). */
