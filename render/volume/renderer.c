@@ -347,15 +347,16 @@ static void occupied_span(const sl_renderer *r, const double o[3], const double 
   *last = from_end < INFINITY ? -from_end : t1;
 }
 
-/* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1]. */
-static int clip_segment(double c, double half, double t0, double t1, double *mid, double *len)
+/* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1], its middle and
+ * length; 0 when nothing is left. Selections, no branch: the light pass's set-up loop vectorises. */
+static inline __attribute__((always_inline)) int clip_segment(double c, double half, double t0, double t1,
+                                                              double *mid, double *len)
 {
   const double a = c - half > t0 ? c - half : t0;
   const double b = c + half < t1 ? c + half : t1;
-  if (!(b > a)) return 0;
   *mid = 0.5 * (a + b);
   *len = b - a;
-  return 1;
+  return b > a;
 }
 
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
@@ -442,6 +443,47 @@ static double light_texel_resolving(const sl_volume *shape, const double u[3], d
   if (limit > 2048) limit = 2048;
   count = count < 128.0 ? 128.0 : count > limit ? limit : count;
   return extent > 0.0 ? extent / count : 1.0;
+}
+
+/* One row of a light-buffer tile in one slice, found in two steps: first every texel's segment and
+ * lattice cell in a loop without branches (vector code: row_lattice_set per lane), then per texel
+ * that holds a sample its brick, cell and prefetch (row_cells). Found one texel at a time, the
+ * cells were a fifth of the light pass. The eye pass keeps the one-at-a-time loop: its rows are
+ * sparser (a pixel's ray crosses a slice only within its own span), and the same two steps made
+ * it 5-10 % slower (PERFORMANCE.md, session 10). */
+typedef struct row_lattice {
+  int take[TILE];   /* the lane's ray or texel crosses this slice within its span */
+  int inside[TILE]; /* its point lies in the lattice's box */
+  int i0[3][TILE];
+  double f[3][TILE];
+} row_lattice;
+
+static inline __attribute__((always_inline)) void row_lattice_set(row_lattice *rl, int i, const sl_grid_view *g,
+                                                                  const double x[3])
+{
+  int cell[3];
+  double frac[3];
+  rl->inside[i] = sl__in_lattice_box(g, x);
+  sl__lattice_cell(g, x, cell, frac);
+  for (int a = 0; a < 3; ++a) rl->i0[a][i] = cell[a], rl->f[a][i] = frac[a];
+}
+
+/* The lanes 0..n-1 of a row that hold a sample, counted into *samples; of those, the ones whose
+ * cell is in the box and in an occupied brick get their cell (prefetched) in cells[] and their
+ * lane in lanes[], in order. Returns how many did. */
+static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r, const int nf, const row_lattice *rl,
+                                                           int n, long *samples, int *lanes, sl__field_cell *cells)
+{
+  int cnt = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!rl->take[i]) continue;
+    ++*samples;
+    const int cell[3] = {rl->i0[0][i], rl->i0[1][i], rl->i0[2][i]};
+    const double frac[3] = {rl->f[0][i], rl->f[1][i], rl->f[2][i]};
+    if (!rl->inside[i] || !sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) continue;
+    lanes[cnt++] = i;
+  }
+  return cnt;
 }
 
 /* Bilinear look-up of the light buffer's state (I per wavelength and n) at x's projection; stride
@@ -662,6 +704,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       st[nwl] = 0.0f;
       L.h_origin[t] = sl__dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
+      L.u_in[t] = L.u_out[t] = 0.0f; /* read (and discarded) by the light pass's vector set-up */
       if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
         L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
         double first, last;
@@ -845,22 +888,36 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         double seg[TILE * TILE];
         float bj[TILE * TILE][SL_MAX_FIELDS];
         sl__field_cell cells[TILE * TILE];
-        /* The tile's cells first, prefetched; then their fields, whose loads overlap. */
-        for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty)
-        for (int tx = tx0; tx < tx0 + TILE && tx < L.w; ++tx) {
-        const size_t t = (size_t)ty * L.w + tx;
-        if (k < L.k_lo[t] || k > L.k_hi[t]) continue;
-        double mid, len;
-        if (!clip_segment((sk - L.h_origin[t]) * inv_hp, 0.5 * ds * inv_hp, L.u_in[t], L.u_out[t], &mid, &len))
-          continue;
-        const int i = tx, j = ty;
-        const double ca = L.amin + (i + 0.5) * L.texel_a, cb = L.bmin + (j + 0.5) * L.texel_b;
-        const double x[3] = {ca * L.a[0] + cb * L.b[0] + mid * prop[0], ca * L.a[1] + cb * L.b[1] + mid * prop[1],
-                             ca * L.a[2] + cb * L.b[2] + mid * prop[2]};
-        light_samples++;
-        if (!sl__field_cell_at(r, nf, x, 1, &cells[cnt])) continue;
-        idx[cnt] = (int)t, seg[cnt] = len;
-        cnt++;
+        /* The tile's cells first, prefetched (per row, row_lattice); then their fields, whose
+         * loads overlap. */
+        const double half = 0.5 * ds * inv_hp;
+        const sl_grid_view *g = &r->beta_view;
+        const int tx1 = tx0 + TILE < L.w ? tx0 + TILE : L.w;
+        const double *restrict h_origin = L.h_origin;
+        const float *restrict u_in = L.u_in, *restrict u_out = L.u_out;
+        const int *restrict k_lo = L.k_lo, *restrict k_hi = L.k_hi;
+        const double amin = L.amin, texel_a = L.texel_a;
+        const double la[3] = {L.a[0], L.a[1], L.a[2]}, lb[3] = {L.b[0], L.b[1], L.b[2]};
+        for (int ty = ty0; ty < ty0 + TILE && ty < L.h; ++ty) {
+          const size_t row = (size_t)ty * L.w + tx0;
+          const double cb = L.bmin + (ty + 0.5) * L.texel_b;
+          row_lattice rl;
+          double len_of[TILE];
+          int lanes[TILE];
+#pragma GCC ivdep
+          for (int i = 0; i < tx1 - tx0; ++i) {
+            const size_t t = row + i;
+            double mid;
+            const int crosses = clip_segment((sk - h_origin[t]) * inv_hp, half, u_in[t], u_out[t], &mid, &len_of[i]);
+            rl.take[i] = (k >= k_lo[t]) & (k <= k_hi[t]) & crosses;
+            const double ca = amin + (tx0 + i + 0.5) * texel_a;
+            const double x[3] = {ca * la[0] + cb * lb[0] + mid * prop[0], ca * la[1] + cb * lb[1] + mid * prop[1],
+                                 ca * la[2] + cb * lb[2] + mid * prop[2]};
+            row_lattice_set(&rl, i, g, x);
+          }
+          const int found = row_cells(r, nf, &rl, tx1 - tx0, &light_samples, lanes, cells + cnt);
+          for (int s = 0; s < found; ++s) idx[cnt + s] = (int)(row + lanes[s]), seg[cnt + s] = len_of[lanes[s]];
+          cnt += found;
         }
         int live = 0;
         for (int i = 0; i < cnt; ++i) {

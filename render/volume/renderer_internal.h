@@ -202,18 +202,22 @@ typedef struct sl__field_cell {
   float f[3];     /* the fractions within it */
 } sl__field_cell;
 
-/* The cell of x (the lattice rule of sl_grid_sample); 0 outside the box or in an empty brick,
- * where every field is zero. Prefetches the cell's four rows (its eight corners) when asked. */
-static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_renderer *r, const int nf,
-                                                                   const double x[3], const int prefetch,
-                                                                   sl__field_cell *cell)
+/* Whether x lies in the lattice's box (outside it every field is zero; false for NaN), as one
+ * expression without branches, so that a loop over a batch of points vectorises. */
+static inline __attribute__((always_inline)) int sl__in_lattice_box(const sl_grid_view *g, const double x[3])
+{
+  return (x[0] >= g->lo[0]) & (x[0] <= g->hi[0]) & (x[1] >= g->lo[1]) & (x[1] <= g->hi[1]) & (x[2] >= g->lo[2]) &
+         (x[2] <= g->hi[2]);
+}
+
+/* The second step of sl__field_cell_at, for a point in the box whose lattice cell (i0, f) is
+ * known: 0 in an empty brick; else the cell, its four rows (its eight corners) prefetched when
+ * asked. */
+static inline __attribute__((always_inline)) int sl__field_cell_of(const sl_renderer *r, const int nf,
+                                                                   const int i0[3], const double f[3],
+                                                                   const int prefetch, sl__field_cell *cell)
 {
   const sl_grid_view *g = &r->beta_view;
-  int i0[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a)
-    if (!(x[a] >= g->lo[a] && x[a] <= g->hi[a])) return 0;
-  sl__lattice_cell(g, x, i0, f);
   if (!sl__brick_occupied(r, i0)) return 0;
   cell->c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
   for (int a = 0; a < 3; ++a) cell->f[a] = (float)f[a];
@@ -228,6 +232,20 @@ static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_rend
     }
   }
   return 1;
+}
+
+/* The cell of x (the lattice rule of sl_grid_sample); 0 outside the box or in an empty brick,
+ * where every field is zero. Prefetches the cell's four rows when asked. */
+static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_renderer *r, const int nf,
+                                                                   const double x[3], const int prefetch,
+                                                                   sl__field_cell *cell)
+{
+  const sl_grid_view *g = &r->beta_view;
+  int i0[3];
+  double f[3];
+  if (!sl__in_lattice_box(g, x)) return 0;
+  sl__lattice_cell(g, x, i0, f);
+  return sl__field_cell_of(r, nf, i0, f, prefetch, cell);
 }
 
 /* The trilinear interpolation of every field in a cell found by sl__field_cell_at. The field
