@@ -348,7 +348,7 @@ static void occupied_span(const sl_renderer *r, const double o[3], const double 
 }
 
 /* One sample's stretch of a ray: the slab [c - half, c + half] clipped to [t0, t1], its middle and
- * length; 0 when nothing is left. Selections, no branch: the light pass's set-up loop vectorises. */
+ * length; 0 when nothing is left. Selections, no branch: the passes' set-up loops vectorise. */
 static inline __attribute__((always_inline)) int clip_segment(double c, double half, double t0, double t1,
                                                               double *mid, double *len)
 {
@@ -445,12 +445,12 @@ static double light_texel_resolving(const sl_volume *shape, const double u[3], d
   return extent > 0.0 ? extent / count : 1.0;
 }
 
-/* One row of a light-buffer tile in one slice, found in two steps: first every texel's segment and
- * lattice cell in a loop without branches (vector code: row_lattice_set per lane), then per texel
- * that holds a sample its brick, cell and prefetch (row_cells). Found one texel at a time, the
- * cells were a fifth of the light pass. The eye pass keeps the one-at-a-time loop: its rows are
- * sparser (a pixel's ray crosses a slice only within its own span), and the same two steps made
- * it 5-10 % slower (PERFORMANCE.md, session 10). */
+/* One row of a tile in one slice, its samples found in two steps: first every lane's segment and
+ * lattice cell in a loop without branches (vector code: row_lattice_set per lane), then per lane
+ * that holds a sample its brick flag, cell and prefetch (row_cells). Found one at a time, the
+ * light pass's cells were a fifth of its time. The light pass's lanes are a row's texels; the
+ * eye pass's only the pixels whose span holds the slice (most of a row's do not, and all sixteen
+ * as lanes made it 5-10 % slower; PERFORMANCE.md, session 10). */
 typedef struct row_lattice {
   int take[TILE];   /* the lane's ray or texel crosses this slice within its span */
   int inside[TILE]; /* its point lies in the lattice's box */
@@ -728,6 +728,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       rq[5] = sl__dot3(h, d);
       rq[6] = rq[5] != 0.0 ? 1.0 / rq[5] : 0.0;
       pk[2 * q] = 1, pk[2 * q + 1] = 0;
+      rq[3] = rq[4] = 0.0; /* a ray that misses the box crosses no slice */
       angle_index[q] = 0, angle_weight[q] = 0.0f;
       if (grid_table) {
         /* Scattering angle between the sunlight's propagation and the direction to the eye. */
@@ -775,18 +776,39 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         int sq[TILE * TILE];
         double smid[TILE * TILE], slen[TILE * TILE];
         sl__field_cell cells[TILE * TILE];
-        for (int py = ty0; py < ty0 + TILE && py < img->height; ++py)
-        for (int px = tx0; px < tx0 + TILE && px < img->width; ++px) {
-        const size_t q = (size_t)py * img->width + px;
-        if (k < pk[2 * q] || k > pk[2 * q + 1]) continue;
-        const double *rq = ray + q * RAY_STRIDE;
-        double mid, len;
-        if (!clip_segment((sk - h_o) * rq[6], 0.5 * ds * fabs(rq[6]), rq[3], rq[4], &mid, &len)) continue;
-        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-        eye_samples++;
-        if (!sl__field_cell_at(r, nf, x, 1, &cells[cnt])) continue;
-        sq[cnt] = (int)q, smid[cnt] = mid, slen[cnt] = len;
-        cnt++;
+        const sl_grid_view *g = &r->beta_view;
+        const int tx1 = tx0 + TILE < img->width ? tx0 + TILE : img->width;
+        for (int py = ty0; py < ty0 + TILE && py < img->height; ++py) {
+          /* The row's pixels whose span holds this slice (most do not: a scalar test each), then
+           * their segments and lattice cells as a vector loop (gathers), then bricks per sample. */
+          const size_t row = (size_t)py * img->width;
+          int active[TILE], n = 0;
+          for (int px = tx0; px < tx1; ++px) {
+            const size_t q = row + px;
+            active[n] = px;
+            n += k >= pk[2 * q] && k <= pk[2 * q + 1];
+          }
+          if (!n) continue;
+          row_lattice rl;
+          double mid_of[TILE], len_of[TILE];
+          int lanes[TILE];
+#pragma GCC ivdep
+          for (int i = 0; i < n; ++i) {
+            /* ray[rq...]: the ray's record, as an index (GCC gathers base + index x 8, not x 56) */
+            const ptrdiff_t rq = ((ptrdiff_t)row + active[i]) * RAY_STRIDE;
+            double mid;
+            rl.take[i] = clip_segment((sk - h_o) * ray[rq + 6], 0.5 * ds * fabs(ray[rq + 6]), ray[rq + 3], ray[rq + 4],
+                                      &mid, &len_of[i]);
+            mid_of[i] = mid;
+            const double x[3] = {o[0] + mid * ray[rq], o[1] + mid * ray[rq + 1], o[2] + mid * ray[rq + 2]};
+            row_lattice_set(&rl, i, g, x);
+          }
+          const int found = row_cells(r, nf, &rl, n, &eye_samples, lanes, cells + cnt);
+          for (int s = 0; s < found; ++s) {
+            const int i = lanes[s];
+            sq[cnt + s] = (int)(row + active[i]), smid[cnt + s] = mid_of[i], slen[cnt + s] = len_of[i];
+          }
+          cnt += found;
         }
         /* Then in three loops: per sample its fields, light-buffer values and table look-ups
          * (scalar: they gather from tables); the exponentials, logarithms and moments of every
