@@ -55,6 +55,19 @@ static int plane_lookup(const sl_renderer *r, const float *plane, int axis, doub
   if (j > n[a2] - 2) j = n[a2] > 1 ? n[a2] - 2 : 0;
   const double fu = n[a1] > 1 ? u - i : 0.0, fw = n[a2] > 1 ? w - j : 0.0;
   const int stride = r->model.nwl + 1;
+  if (stride == 4) {
+    /* Three wavelengths and n: a sample's state is one 4-float vector, lerped at once as the
+     * slicer's light-buffer look-up does (the sweep's time was this function's loads and
+     * conversions, channel by channel in double). */
+    const size_t di = n[a1] > 1 ? 4 : 0, dj = n[a2] > 1 ? (size_t)n[a1] * 4 : 0;
+    const float *p = plane + ((size_t)j * n[a1] + i) * 4;
+    const float gu = (float)fu, gw = (float)fw;
+    const sl__v4f r0 = sl__load_v4f(p) + gu * (sl__load_v4f(p + di) - sl__load_v4f(p));
+    const sl__v4f r1 = sl__load_v4f(p + dj) + gu * (sl__load_v4f(p + dj + di) - sl__load_v4f(p + dj));
+    const sl__v4f value = (r0 + gw * (r1 - r0)) * (float)(1.0 - fresh); /* fresh light: ln I = 0, n = 0 */
+    for (int s = 0; s < 4; ++s) out[s] = value[s];
+    return 1;
+  }
   const double wt[4] = {(1 - fu) * (1 - fw), fu * (1 - fw), (1 - fu) * fw, fu * fw};
   for (int s = 0; s < stride; ++s) out[s] = 0.0;
   for (int c = 0; c < 4; ++c) {
