@@ -79,14 +79,21 @@ static int plane_lookup(const sl_renderer *r, const float *plane, int axis, doub
   return 1;
 }
 
+/* Planes the sweep keeps before it writes them to the volume: across x, four consecutive planes'
+ * states (16 bytes each at three wavelengths) fill one 64-byte cache line, which plane by plane
+ * was written a quarter at a time (each plane's writes 4 KB apart, every line fetched four
+ * times). */
+#define SWEEP_PLANES 4
+
 /* What the sweep needs: the planes across the sun's dominant axis and the path between them. */
 typedef struct sweep_frame {
   const sl_renderer *r;
   float *state;
-  /* The last plane and the one being swept, in rows along a1: the sweep reads the previous
-   * plane from here (a megabyte at 256^2, in cache) instead of from the volume, where a plane
-   * across x or y is a sample every few kilobytes and each look-up missed the cache. */
-  float *plane[2];
+  /* The last SWEEP_PLANES planes, the one being swept among them, in rows along a1: the sweep
+   * reads the previous plane from here (a megabyte at 256^2) instead of from the volume, where a
+   * plane across x or y is a sample every few kilobytes and each look-up missed the cache; and
+   * writes them to the volume together, SWEEP_PLANES at a time (sweep_planes, after each group). */
+  float *plane[SWEEP_PLANES];
   double p[3];           /* the sunlight's propagation */
   int axis, a1, a2, step, first;
   double path;           /* from one plane to the next along the sunlight */
@@ -113,15 +120,15 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
       for (int ii = 0; ii < n[a1]; ++ii) {
         int idx[3];
         idx[axis] = k, idx[a1] = ii, idx[a2] = jj;
-        float *out = f->plane[kk & 1] + ((size_t)jj * n[a1] + ii) * stride;
-        float *kept = state + lv_index(v, idx[0], idx[1], idx[2], stride);
+        float *out = f->plane[kk % SWEEP_PLANES] + ((size_t)jj * n[a1] + ii) * stride;
         double prev[SL_MAX_WAVELENGTHS + 1];
         double x[3];
         for (int a = 0; a < 3; ++a) x[a] = v->origin[a] + idx[a] * v->spacing[a];
         double len = f->path;
         /* The state where this sample's sun ray crossed the previous plane, or fresh sunlight
          * entering the box (through the first plane or a side face) over a shorter path. */
-        if (kk == 0 || !plane_lookup(r, f->plane[(kk - 1) & 1], axis, ii + f->shift1, jj + f->shift2, prev)) {
+        if (kk == 0 ||
+            !plane_lookup(r, f->plane[(kk - 1) % SWEEP_PLANES], axis, ii + f->shift1, jj + f->shift2, prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
           len = sl__min(f->path, sl__box_exit_distance(&f->sun_exit, x));
@@ -137,7 +144,6 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
           /* Nothing on the path: the light arrives as it left the previous plane. */
           for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)prev[c], LOG_FLOOR);
           out[nwl] = (float)prev[nwl];
-          memcpy(kept, out, (size_t)stride * sizeof *out);
           continue;
         }
         float st[SL_MAX_WAVELENGTHS + 1]; /* I per wavelength, n */
@@ -146,8 +152,20 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         sl_light_step_at(m, (int)m->mode, nf, nwl, beta, len, st, 0);
         for (int c = 0; c < nwl; ++c) out[c] = st[c] > 0.0f ? fmaxf(logf(st[c]), LOG_FLOOR) : LOG_FLOOR;
         out[nwl] = st[nwl];
-        memcpy(kept, out, (size_t)stride * sizeof *out);
       }
+    if (kk % SWEEP_PLANES == SWEEP_PLANES - 1 || kk == n[axis] - 1) {
+      /* The planes since the last flush into the volume, sample by sample across them. */
+      const int held = kk % SWEEP_PLANES + 1;
+#pragma omp for schedule(static)
+      for (int jj = 0; jj < n[a2]; ++jj)
+        for (int ii = 0; ii < n[a1]; ++ii)
+          for (int b = 0; b < held; ++b) {
+            int idx[3];
+            idx[axis] = f->first + (kk - held + 1 + b) * step, idx[a1] = ii, idx[a2] = jj;
+            memcpy(state + lv_index(v, idx[0], idx[1], idx[2], stride),
+                   f->plane[b] + ((size_t)jj * n[a1] + ii) * stride, (size_t)stride * sizeof(float));
+          }
+    }
   }
 }
 
@@ -178,12 +196,12 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   sl__box_exit_init(&f.sun_exit, box_lo, box_hi, sun);
   const double t0 = omp_get_wtime();
   const size_t plane_floats = (size_t)n[f.a1] * n[f.a2] * stride;
-  f.plane[0] = malloc(2 * plane_floats * sizeof(float));
+  f.plane[0] = malloc(SWEEP_PLANES * plane_floats * sizeof(float));
   if (!f.plane[0]) {
     free(f.state);
     return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
   }
-  f.plane[1] = f.plane[0] + plane_floats;
+  for (int b = 1; b < SWEEP_PLANES; ++b) f.plane[b] = f.plane[b - 1] + plane_floats;
   SL_RUN_SPECIALISED(sweep_planes, &f, r->model.nf, nwl);
   free(f.plane[0]);
   free(r->light_volume);
