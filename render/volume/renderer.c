@@ -728,7 +728,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       rq[5] = sl__dot3(h, d);
       rq[6] = rq[5] != 0.0 ? 1.0 / rq[5] : 0.0;
       pk[2 * q] = 1, pk[2 * q + 1] = 0;
-      rq[3] = rq[4] = 0.0; /* a ray that misses the box crosses no slice */
+      rq[3] = rq[4] = 0.0; /* an empty span until the box is hit: the resolve reads every ray's */
       angle_index[q] = 0, angle_weight[q] = 0.0f;
       if (grid_table) {
         /* Scattering angle between the sunlight's propagation and the direction to the eye. */
