@@ -537,6 +537,21 @@ static inline __attribute__((always_inline)) void light_steps(const sl_light_mod
  * a whole tile, 256, the 16-wavelength eye pass ran 1.4x slower than before batching). */
 #define EYE_BATCH 32
 
+/* The parts an eye sample's segment is taken in, each with the fields at its own middle: one
+ * where the segment is optically thin, up to EYE_PARTS_MAX where it is thick (one per unit of
+ * optical depth at the segment's middle). A thick segment's light comes from its first mean
+ * free path, and one extinction for the whole segment puts that at the slab's front plane
+ * wherever the cloud's surface lies within the slab. Against 2048 slices this halves the error
+ * of several bundled scenes at their default slices for a few per cent of the eye pass
+ * (docs/ACCURACY.md, "Slices"). */
+#define EYE_PART_DEPTH 1.0
+#define EYE_PARTS_MAX 4
+static inline int eye_parts(double depth)
+{
+  const double parts = ceil(depth * (1.0 / EYE_PART_DEPTH));
+  return parts <= 1.0 ? 1 : parts >= EYE_PARTS_MAX ? EYE_PARTS_MAX : (int)parts;
+}
+
 /* The table look-ups of a batch of eye samples, in one loop over the samples that vectorises
  * (gathers), as the light pass's steps do: per sample the exponents of eq. 24's fraction over its
  * probe path, the expected scattering count at its middle (eq. 21) and eq. 26's angular term there,
@@ -546,13 +561,13 @@ static inline __attribute__((always_inline)) void eye_batch_phases(
     const sl_light_model *m, const int mode, const int nf, const int nwl, const int live,
     float (*restrict fields)[SL_MAX_FIELDS], const double *restrict n, const double *restrict probe,
     const double *restrict path_mid, const int *restrict angle_index, const double *restrict angle_weight,
-    double (*restrict sun_per_beta)[EYE_BATCH], double *restrict depth_probe, double (*restrict log_kept)[EYE_BATCH],
+    double (*restrict sun_per_beta)[EYE_BATCH], double (*restrict log_kept)[EYE_BATCH],
     double (*restrict source)[EYE_BATCH])
 {
 #pragma GCC ivdep
   for (int s = 0; s < live; ++s) {
     double lk[SL_MAX_WAVELENGTHS], phase[SL_MAX_WAVELENGTHS];
-    depth_probe[s] = sl_light_fraction_exponents(m, mode, nf, nwl, fields[s], n[s], probe[s], lk);
+    sl_light_fraction_exponents(m, mode, nf, nwl, fields[s], n[s], probe[s], lk);
     const double n_sample =
         mode != SL_LIGHTING_LOW_ALBEDO ? sl_expected_scatter_count(m, mode, nf, nwl, fields[s], n[s], path_mid[s]) : n[s];
     sl_eye_phase_at(m, mode, nf, nwl, fields[s], n_sample, angle_index[s], angle_weight[s], phase);
@@ -566,39 +581,38 @@ static inline __attribute__((always_inline)) void eye_batch_phases(
 }
 
 /* The eye pass's exponentials for a batch of samples (of one tile in one slice), every wavelength:
- * the opacity of each sample's segment, the light the slab keeps over the probe path (eq. 24's
- * fraction from its exponents), the slab's effective extinction, and the closed-form gather of
+ * the opacity of each sample's segment, the slab's effective extinction (the log of the light it
+ * keeps over the probe path, eq. 24, per metre), and the closed-form gather of
  * sl_segment_scatter_moments; radiance[c][s] is the light sample s sends toward the eye at
  * wavelength c before the eye's own attenuation in front of it. Loops over the samples inside
  * loops over the wavelengths, each branch-free, so that every one vectorises (libmvec's exp, log
  * and expm1) whatever the wavelength count. */
 static inline __attribute__((always_inline)) void eye_batch_radiance(
     const int nwl, const int live, const double *restrict beta, const double *restrict inv_beta,
-    const double *restrict len, const double *restrict inv_probe, const double *restrict path_near,
-    const double *restrict light_rate, const double *restrict depth_probe, double (*restrict log_kept)[EYE_BATCH],
+    const double *restrict len, const double *restrict inv_len, const double *restrict inv_probe,
+    const double *restrict path_near, const double *restrict light_rate, double (*restrict log_kept)[EYE_BATCH],
     double (*restrict l0)[EYE_BATCH], double (*restrict l1)[EYE_BATCH], double (*restrict source)[EYE_BATCH],
-    double *restrict opacity, double *restrict transparency, double (*restrict radiance)[EYE_BATCH])
+    double *restrict opacity, double (*restrict radiance)[EYE_BATCH])
 {
 #pragma omp simd
-  for (int s = 0; s < live; ++s) {
-    opacity[s] = -expm1(-beta[s] * len[s]);
-    transparency[s] = exp(-depth_probe[s]);
-  }
+  for (int s = 0; s < live; ++s) opacity[s] = -expm1(-beta[s] * len[s]);
   for (int c = 0; c < nwl; ++c) {
     const double *restrict lk = log_kept[c], *restrict a0 = l0[c], *restrict a1 = l1[c], *restrict src = source[c];
     double *restrict out = radiance[c];
 #pragma omp simd
     for (int s = 0; s < live; ++s) {
-      const double kept = sl_light_fraction_from(transparency[s], lk[s]);
-      /* Where the slab keeps nothing (kept underflows), its extinction alone: as sums, not as a
-       * selection around the log, which GCC would turn into a branch (and not vectorise). */
-      const double dark = kept > 0.0 ? 0.0 : 1.0;
-      const double slab_extinction = -log(kept + dark) * inv_probe[s] + dark * beta[s];
-      const double rate = 1.0 + slab_extinction * inv_beta[s] * light_rate[s];
+      const double slab_extinction = -lk[s] * inv_probe[s];
+      /* The light along the segment: the buffer's values at its ends, log-linear between them
+       * (exact where the light falls off exponentially across the buffer, as it does into a
+       * cloud; taken linear, it overestimated the light where a thick segment crosses a shadow's
+       * edge, across which the buffer falls by up to e^-34 in the bundled storm, and showed the
+       * slices as a hatch), times the slab's own attenuation. */
+      const double near = sl__max(a0[s], 1e-30), far = sl__max(a1[s], 1e-30);
+      const double decay = log(near / far) * inv_len[s];
+      const double rate = 1.0 + (slab_extinction * light_rate[s] + decay) * inv_beta[s];
       const double e = exp(-beta[s] * rate * len[s]);
       const double m0 = sl_segment_scatter_moment_exp(0, beta[s], len[s], rate, e);
-      const double m1 = sl_segment_scatter_moment_exp(1, beta[s], len[s], rate, e);
-      const double gathered = exp(-slab_extinction * path_near[s]) * (a0[s] * m0 + (a1[s] - a0[s]) * m1);
+      const double gathered = exp(-slab_extinction * path_near[s]) * near * m0;
       out[s] = gathered * src[s];
     }
   }
@@ -681,9 +695,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   /* This thread's batch of up to EYE_BATCH of an eye tile's samples in a slice: per sample, and per
    * wavelength and sample, in separate arrays that eye_batch_radiance's loops read as vectors. */
   int b_q[EYE_BATCH];
-  double b_beta[EYE_BATCH], b_inv_beta[EYE_BATCH], b_len[EYE_BATCH], b_inv_probe[EYE_BATCH];
-  double b_path_near[EYE_BATCH], b_light_rate[EYE_BATCH], b_depth[EYE_BATCH], b_depth_probe[EYE_BATCH];
-  double b_opacity[EYE_BATCH], b_transparency[EYE_BATCH];
+  double b_beta[EYE_BATCH], b_inv_beta[EYE_BATCH], b_len[EYE_BATCH], b_inv_len[EYE_BATCH], b_inv_probe[EYE_BATCH];
+  double b_path_near[EYE_BATCH], b_light_rate[EYE_BATCH], b_depth[EYE_BATCH], b_opacity[EYE_BATCH];
   double b_log_kept[SL_MAX_WAVELENGTHS][EYE_BATCH], b_l0[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double b_l1[SL_MAX_WAVELENGTHS][EYE_BATCH], b_source[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double b_radiance[SL_MAX_WAVELENGTHS][EYE_BATCH];
@@ -814,19 +827,26 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
          * (scalar: they gather from tables); the exponentials, logarithms and moments of every
          * sample and wavelength at once (one vector loop over the samples, no branch, libmvec's
          * exp and log); the accumulation into the pixels. */
-        for (int first = 0; first < cnt; first += EYE_BATCH) {
-        const int last = first + EYE_BATCH < cnt ? first + EYE_BATCH : cnt;
+        for (int si = 0; si < cnt;) {
         int live = 0;
-        for (int si = first; si < last; ++si) {
+        for (; si < cnt && live <= EYE_BATCH - EYE_PARTS_MAX; ++si) {
         const size_t q = (size_t)sq[si];
         const double *rq = ray + q * RAY_STRIDE;
-        const double mid = smid[si], len = slen[si];
+        const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
+        double beta_mid = 0.0;
+        for (int j = 0; j < nf; ++j) beta_mid += v[j];
+        if (!(beta_mid > 0.0)) continue;
+        const int parts = eye_parts(beta_mid * slen[si]);
+        for (int p = 0; p < parts; ++p) {
+        /* The parts in the order of compositing: nearest first, or farthest first back to front. */
+        const int part = back_to_front ? parts - 1 - p : p;
+        const double len = slen[si] / parts, mid = smid[si] + (part + 0.5 - 0.5 * parts) * len;
         const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
         float *beta_j = b_fields[live];
-        {
-          const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
+        if (parts == 1)
           for (int j = 0; j < nf; ++j) beta_j[j] = v[j];
-        }
+        else
+          sl__sample_fields_n(r, nf, x, beta_j);
         double beta = 0.0;
         for (int j = 0; j < nf; ++j) beta += beta_j[j];
         if (!(beta > 0.0)) continue;
@@ -858,7 +878,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         b_angle_index[live] = angle_index[q], b_angle_weight[live] = angle_weight[q];
         sl__sun_at(suntab, x, sunlight);
         b_q[live] = (int)q;
-        b_beta[live] = beta, b_inv_beta[live] = inv_beta, b_len[live] = len;
+        b_beta[live] = beta, b_inv_beta[live] = inv_beta, b_len[live] = len, b_inv_len[live] = 1.0 / len;
         b_inv_probe[live] = 1.0 / b_probe[live], b_path_near[live] = path_near;
         b_light_rate[live] = (path_far - path_near) / len;
         b_depth[live] = mid * sl__dot3(rq, fwd);
@@ -868,15 +888,16 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         live++;
         }
+        }
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, live, b_fields, &held_model);
 #define EYE_PHASES(model, mode, count) \
   eye_batch_phases(model, mode, count, nwl, live, b_fields, b_n, b_probe, b_path_mid, b_angle_index, b_angle_weight, \
-                   b_sun, b_depth_probe, b_log_kept, b_source)
+                   b_sun, b_log_kept, b_source)
         SL_WITH_BATCH_MODEL(m, held_model, held, nf, EYE_PHASES);
 #undef EYE_PHASES
-        eye_batch_radiance(nwl, live, b_beta, b_inv_beta, b_len, b_inv_probe, b_path_near, b_light_rate, b_depth_probe,
-                           b_log_kept, b_l0, b_l1, b_source, b_opacity, b_transparency, b_radiance);
+        eye_batch_radiance(nwl, live, b_beta, b_inv_beta, b_len, b_inv_len, b_inv_probe, b_path_near, b_light_rate, b_log_kept,
+                           b_l0, b_l1, b_source, b_opacity, b_radiance);
         for (int s = 0; s < live; ++s) {
           const size_t q = (size_t)b_q[s];
           const double opacity = b_opacity[s];

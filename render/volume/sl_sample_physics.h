@@ -121,23 +121,48 @@ SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL
   return sl_log_product_at(SL_MODEL_ARG j, c, n + events) - sl_log_product_at(SL_MODEL_ARG j, c, n);
 }
 
-/* The light per wavelength left after a path len through a sample of extinction beta[j] per field
- * (m^-1) that the light reaches having scattered n times on average, as its exponents: returns the
- * optical depth ext len (the unscattered part is exp(-ext len)) and gives per wavelength the log of
- * the forward fraction kept by the scattered part, eq. 24 (taken continuously) or eq. 25 by the
- * model's mode; -1e30 (a kept fraction of 0) where nothing scatters and for the low-albedo model,
- * whose fraction is the plain transparency. sl_light_fraction_from takes the exponentials: apart,
- * so that the CPU's eye pass can take those of a whole batch of samples in one vector loop. */
+/* The mean of ln(albedo F_i) over the scattering events from n to n + events of field j at
+ * wavelength c: eq. 24's log product per event. Taken over at least a hundredth of an event,
+ * so that a thin slab gets the slope at n without dividing a difference of nearly equal sums
+ * by nearly zero (in float, on the GPU, that difference would be all rounding). */
+SL_INLINE SL_REAL sl_log_kept_per_event(SL_MODEL_PARAM int j, int c, SL_REAL n, SL_REAL events)
+{
+  SL_REAL span = events > 0.01 ? events : 0.01;
+  return sl_log_forward_product_at(SL_MODEL_ARG j, c, n, span) / span;
+}
+
+/* The fraction of the light per wavelength kept in the forward beam after a path len through a
+ * sample of extinction beta[j] per field (m^-1) that the light reaches having scattered n times
+ * on average, as its logarithm log_kept[c]; returns the optical depth ext len.
+ *
+ * Riley et al. 2004, eq. 24, prints T + (1 - T) prod_{i=n+1}^{n+m} albedo F_i with T the
+ * slab's transparency and m its expected number of scattering events: the scattered light
+ * passes through as many events as the slab holds on average. In a thin slab that product is
+ * 1 - O(m), so the slab keeps 1 - O(tau^2) of the light: the first-order loss vanishes, and
+ * the transport depends on how thick the slabs are, tending to no attenuation at all as they
+ * thin (a 10-deep cloud with albedo F = 0.9 keeps 0.35 of the light in one slab, 0.52 in ten,
+ * 0.90 in a hundred; test_light_step). Averaged over the slab's random number K of
+ * interactions (Poisson, mean tau = ext len), each keeping the light with albedo F, the kept
+ * fraction is E[(albedo F)^K] = exp(-tau (1 - albedo F)): the same for one slab as for two
+ * halves, 1 - tau (1 - albedo F) when thin (the unscattered light plus the once-scattered light
+ * kept forward) and within a few per cent of the printed form in the thick slabs the paper
+ * used. Here albedo F is the geometric mean per event over the slab's events from n on
+ * (sl_log_kept_per_event, continuous in n: the interpolation that eq. 25 replaced), each field
+ * weighted by its share of the events (exact for one field; a mix along a path has no exact
+ * per-field split). Eq. 25 (`--lighting eq25`) stays as printed, the paper's GPU workaround;
+ * the low-albedo model keeps the plain transparency. The logarithm is finite (at most the
+ * optical depth), so the CPU's eye pass takes a whole batch's exponentials in one loop. */
 SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n,
                                               SL_REAL len, SL_OUT_ARRAY(SL_REAL, log_kept, SL_MAX_WAVELENGTHS))
 {
   SL_REAL ext = 0.0;
   SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) ext += beta[j];
+  SL_REAL depth = ext * len;
   if (SL_MODE == SL_MODE_LOW_ALBEDO) {
     SL_UNROLL
-    for (int c = 0; c < SL_NWL; ++c) log_kept[c] = -1e30;
-    return ext * len;
+    for (int c = 0; c < SL_NWL; ++c) log_kept[c] = -depth;
+    return depth;
   }
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
@@ -154,10 +179,10 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
   for (int j = 0; j < SL_NF; ++j) share[j] = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
   SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) {
-    SL_REAL log_fraction = 0.0;
+    SL_REAL log_fraction = -depth;
     if (SL_MODE == SL_MODE_EQ25) {
-      /* Riley et al. 2004, eq. 25: the worst-case order's forward fraction to the power of the
-       * slab's scattering count (the paper's GPU workaround). */
+      /* Riley et al. 2004, eq. 25 as printed: the worst-case order's forward fraction to the
+       * power of the slab's scattering count. */
       int order = SL_INT(sl_floor(n + 1.0 + events));
       SL_REAL f = 0.0, a = 0.0;
       SL_UNROLL
@@ -166,39 +191,33 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
         f += share[j] * SL_FORWARD(j, c, order < 0 ? 0 : (order > N ? N : order));
         a += share[j] * SL_ALBEDO(j, c);
       }
-      log_fraction = a * f > 0.0 ? events * sl_log(a * f) : -1e30;
+      SL_REAL transparency = sl_exp(-depth);
+      SL_REAL fraction = transparency + (1.0 - transparency) * (a * f > 0.0 ? sl_exp(events * sl_log(a * f)) : 0.0);
+      log_fraction = fraction > 0.0 ? sl_log(fraction) : -depth;
     } else {
-      /* Eq. 24 with a mix: each field's product weighted geometrically by its share of the
-       * events (exact for one field; a mix along a path has no exact per-field split). A field
-       * without a share adds nothing (its product may be -inf where a table's F_i is 0). */
+      SL_REAL log_per_event = 0.0;
       SL_UNROLL
       for (int j = 0; j < SL_NF; ++j) {
-        SL_REAL term = share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, events);
-        log_fraction += share[j] > 0.0 ? term : 0.0;
+        /* A field without a share adds nothing (its product may be -inf where F_i is 0). */
+        SL_REAL term = share[j] * sl_log_kept_per_event(SL_MODEL_ARG j, c, n, events);
+        log_per_event += share[j] > 0.0 ? term : 0.0;
       }
+      log_fraction = -depth * (1.0 - sl_exp(log_per_event));
     }
-    log_kept[c] = scatters ? log_fraction : -1e30;
+    log_kept[c] = scatters ? log_fraction : -depth;
   }
-  return ext * len;
+  return depth;
 }
 
-/* Eq. 24's fraction from the transparency exp(-ext len) and the log of the kept forward fraction
- * (sl_light_fraction_exponents): what passes unscattered, plus the scattered part that stays in
- * the forward hemisphere through every event of the slab. */
-SL_INLINE SL_REAL sl_light_fraction_from(SL_REAL transparency, SL_REAL log_kept)
-{
-  return transparency + (1.0 - transparency) * sl_exp(log_kept);
-}
-
-/* The fraction of the light per wavelength left after a path len through the sample (the two
- * functions above in one). */
+/* The fraction of the light per wavelength left after a path len through the sample (eq. 24 as
+ * above, eq. 25, or the transparency). */
 SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n, SL_REAL len,
                                     SL_OUT_ARRAY(SL_REAL, fraction, SL_MAX_WAVELENGTHS))
 {
   SL_REAL log_kept[SL_MAX_WAVELENGTHS];
-  SL_REAL transparency = sl_exp(-sl_light_fraction_exponents(SL_MODEL_ARG beta, n, len, log_kept));
+  sl_light_fraction_exponents(SL_MODEL_ARG beta, n, len, log_kept);
   SL_UNROLL
-  for (int c = 0; c < SL_NWL; ++c) fraction[c] = sl_light_fraction_from(transparency, log_kept[c]);
+  for (int c = 0; c < SL_NWL; ++c) fraction[c] = sl_exp(log_kept[c]);
 }
 
 /* Riley et al. 2004, eq. 26's angular term per wavelength at a sample whose light has scattered
