@@ -381,8 +381,11 @@ typedef struct light_buffer {
   int w, h;
   double a[3], b[3];   /* texel axes, unit, perpendicular to the propagation direction */
   double amin, bmin, texel_a, texel_b, inv_texel_a, inv_texel_b; /* texel sizes along a and b */
-  int stride;          /* nwl intensities (relative to the sunlight above the volume) and n */
-  float *state;        /* per texel: I per wavelength, then the expected scattering count n */
+  int stride;          /* nwl log intensities (relative to the sunlight above the volume) and n */
+  float *state;        /* per texel: ln I per wavelength, then the expected scattering count n. ln I,
+                          as in the light volume: a light step adds eq. 24's log kept fraction (no
+                          exponential), the eye gather wants the log-linear slope, and bilinear
+                          interpolation of ln I keeps an exponential fall-off exact */
   float *u_in, *u_out; /* each texel ray's interval in the box */
   double *h_origin;    /* h . (texel ray origin) */
   int *k_lo, *k_hi;    /* slices a texel ray crosses */
@@ -486,7 +489,7 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
   return cnt;
 }
 
-/* Bilinear look-up of the light buffer's state (I per wavelength and n) at x's projection; stride
+/* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at x's projection; stride
  * is L->stride, given apart so that the specialised passes unroll the channels (as a call with
  * the stride read from L it took a tenth of the slicer's time). */
 static inline __attribute__((always_inline)) void light_lookup(const light_buffer *L, const int stride,
@@ -529,7 +532,7 @@ static inline __attribute__((always_inline)) void light_steps(const sl_light_mod
                                                               float *state, const int stride)
 {
 #pragma GCC ivdep
-  for (int i = 0; i < cnt; ++i) sl_light_step_at(m, mode, nf, nwl, bj[i], seg[i], state, idx[i] * stride);
+  for (int i = 0; i < cnt; ++i) sl_log_light_step_at(m, mode, nf, nwl, bj[i], seg[i], state, idx[i] * stride);
 }
 
 /* Samples of a tile in a slice whose exponentials the eye pass takes at once: a multiple of the
@@ -602,17 +605,16 @@ static inline __attribute__((always_inline)) void eye_batch_radiance(
 #pragma omp simd
     for (int s = 0; s < live; ++s) {
       const double slab_extinction = -lk[s] * inv_probe[s];
-      /* The light along the segment: the buffer's values at its ends, log-linear between them
+      /* The light along the segment: the buffer's values (ln I) at its ends, log-linear between them
        * (exact where the light falls off exponentially across the buffer, as it does into a
        * cloud; taken linear, it overestimated the light where a thick segment crosses a shadow's
        * edge, across which the buffer falls by up to e^-34 in the bundled storm, and showed the
        * slices as a hatch), times the slab's own attenuation. */
-      const double near = sl__max(a0[s], 1e-30), far = sl__max(a1[s], 1e-30);
-      const double decay = log(near / far) * inv_len[s];
+      const double decay = (a0[s] - a1[s]) * inv_len[s];
       const double rate = 1.0 + (slab_extinction * light_rate[s] + decay) * inv_beta[s];
       const double e = exp(-beta[s] * rate * len[s]);
       const double m0 = sl_segment_scatter_moment_exp(0, beta[s], len[s], rate, e);
-      const double gathered = exp(-slab_extinction * path_near[s]) * near * m0;
+      const double gathered = exp(a0[s] - slab_extinction * path_near[s]) * m0;
       out[s] = gathered * src[s];
     }
   }
@@ -713,7 +715,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       const double origin[3] = {ca * L.a[0] + cb * L.b[0], ca * L.a[1] + cb * L.b[1], ca * L.a[2] + cb * L.b[2]};
       double u0, u1;
       float *st = L.state + t * L.stride;
-      for (int c = 0; c < nwl; ++c) st[c] = 1.0f;
+      for (int c = 0; c < nwl; ++c) st[c] = 0.0f; /* ln I: the sunlight above the volume */
       st[nwl] = 0.0f;
       L.h_origin[t] = sl__dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;

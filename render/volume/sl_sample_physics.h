@@ -327,6 +327,18 @@ SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], 
   for (int c = 0; c < SL_NWL; ++c) state[o + c] = (float)(state[o + c] * fraction[c]);
   if (SL_MODE != SL_MODE_LOW_ALBEDO) state[o + SL_NWL] = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, n, len);
 }
+/* C only: the same step on a state that holds ln I (the slicer's light buffer): ln I gains the
+ * log of the kept fraction, which eq. 24's form gives as an exponent already, so the step takes
+ * no exponential. */
+SL_INLINE void sl_log_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *state, int o)
+{
+  SL_REAL n = state[o + SL_NWL];
+  SL_REAL log_kept[SL_MAX_WAVELENGTHS];
+  sl_light_fraction_exponents(SL_MODEL_ARG beta, n, len, log_kept);
+  SL_UNROLL
+  for (int c = 0; c < SL_NWL; ++c) state[o + c] = (float)(state[o + c] + log_kept[c]);
+  if (SL_MODE != SL_MODE_LOW_ALBEDO) state[o + SL_NWL] = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, n, len);
+}
 #endif
 
 #endif
