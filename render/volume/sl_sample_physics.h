@@ -121,16 +121,6 @@ SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL
   return sl_log_product_at(SL_MODEL_ARG j, c, n + events) - sl_log_product_at(SL_MODEL_ARG j, c, n);
 }
 
-/* The mean of ln(albedo F_i) over the scattering events from n to n + events of field j at
- * wavelength c: eq. 24's log product per event. Taken over at least a hundredth of an event,
- * so that a thin slab gets the slope at n without dividing a difference of nearly equal sums
- * by nearly zero (in float, on the GPU, that difference would be all rounding). */
-SL_INLINE SL_REAL sl_log_kept_per_event(SL_MODEL_PARAM int j, int c, SL_REAL n, SL_REAL events)
-{
-  SL_REAL span = events > 0.01 ? events : 0.01;
-  return sl_log_forward_product_at(SL_MODEL_ARG j, c, n, span) / span;
-}
-
 /* The fraction of the light per wavelength kept in the forward beam after a path len through a
  * sample of extinction beta[j] per field (m^-1) that the light reaches having scattered n times
  * on average, as its logarithm log_kept[c]; returns the optical depth ext len.
@@ -147,7 +137,7 @@ SL_INLINE SL_REAL sl_log_kept_per_event(SL_MODEL_PARAM int j, int c, SL_REAL n, 
  * halves, 1 - tau (1 - albedo F) when thin (the unscattered light plus the once-scattered light
  * kept forward) and within a few per cent of the printed form in the thick slabs the paper
  * used. Here albedo F is the geometric mean per event over the slab's events from n on
- * (sl_log_kept_per_event, continuous in n: the interpolation that eq. 25 replaced), each field
+ * (continuous in n: the interpolation that eq. 25 replaced), each field
  * weighted by its share of the events (exact for one field; a mix along a path has no exact
  * per-field split). Eq. 25 (`--lighting eq25`) stays as printed, the paper's GPU workaround;
  * the low-albedo model keeps the plain transparency. The logarithm is finite (at most the
@@ -177,6 +167,11 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
   for (int j = 0; j < SL_MAX_FIELDS; ++j) share[j] = 0.0;
   SL_UNROLL
   for (int j = 0; j < SL_NF; ++j) share[j] = SL_ALBEDO_MEAN(j) * beta[j] * per_event;
+  /* Eq. 24's log product per event is taken over at least a hundredth of an event, so that a
+   * thin slab gets the slope at n without dividing a difference of nearly equal sums by nearly
+   * zero (in float, on the GPU, that difference would be all rounding). */
+  SL_REAL span = events > 0.01 ? events : 0.01;
+  SL_REAL per_span = 1.0 / span;
   SL_UNROLL
   for (int c = 0; c < SL_NWL; ++c) {
     SL_REAL log_fraction = -depth;
@@ -195,14 +190,14 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
       SL_REAL fraction = transparency + (1.0 - transparency) * (a * f > 0.0 ? sl_exp(events * sl_log(a * f)) : 0.0);
       log_fraction = fraction > 0.0 ? sl_log(fraction) : -depth;
     } else {
-      SL_REAL log_per_event = 0.0;
+      SL_REAL log_product = 0.0;
       SL_UNROLL
       for (int j = 0; j < SL_NF; ++j) {
         /* A field without a share adds nothing (its product may be -inf where F_i is 0). */
-        SL_REAL term = share[j] * sl_log_kept_per_event(SL_MODEL_ARG j, c, n, events);
-        log_per_event += share[j] > 0.0 ? term : 0.0;
+        SL_REAL term = share[j] * sl_log_forward_product_at(SL_MODEL_ARG j, c, n, span);
+        log_product += share[j] > 0.0 ? term : 0.0;
       }
-      log_fraction = -depth * (1.0 - sl_exp(log_per_event));
+      log_fraction = -depth * (1.0 - sl_exp(log_product * per_span));
     }
     log_kept[c] = scatters ? log_fraction : -depth;
   }
