@@ -63,18 +63,18 @@ void main()
     prev = vec4(0.0);
     len = slLayer == 0 ? 0.5 * dot(slSpacing, slAxisE) / abs(dot(prop, slAxisE)) : min(slPath, slDistanceToBoxToward(x, slSun));
   }
-  vec3 I = exp(prev.rgb);
+  vec3 lnI = prev.rgb;
   float n = prev.a;
   float beta[SL_MAX_FIELDS];
   slSampleFields(x - 0.5 * len * prop, beta);
   float total = 0.0;
   for (int j = 0; j < SL_MAX_FIELDS; ++j) total += beta[j];
   if (total > 0.0 && len > 0.0) {
-    float fraction[SL_MAX_WAVELENGTHS];
-    sl_light_fraction_at(beta, n, len, fraction);
-    I *= vec3(fraction[0], fraction[1], fraction[2]);
+    // One light step on ln I (sl_log_light_step_at in C): the log of the kept fraction adds.
+    float logKept[SL_MAX_WAVELENGTHS];
+    sl_light_fraction_exponents(beta, n, len, logKept);
+    lnI += vec3(logKept[0], logKept[1], logKept[2]);
     if (slMode != SL_MODE_LOW_ALBEDO) n = sl_expected_scatter_count(beta, n, len);
   }
-  vec3 lnI = mix(vec3(-80.0), max(log(I), vec3(-80.0)), greaterThan(I, vec3(0.0)));
-  gl_FragData[0] = vec4(lnI, n);
+  gl_FragData[0] = vec4(max(lnI, vec3(-80.0)), n);
 }

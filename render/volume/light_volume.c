@@ -146,14 +146,10 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
           out[nwl] = (float)prev[nwl];
           continue;
         }
-        /* One light step in the logarithm: ln I gains the log of the light the path keeps (eq. 24,
-         * which is an exponent already: no exponential and logarithm around it), n grows by eq. 21. */
-        double log_kept[SL_MAX_WAVELENGTHS];
-        sl_light_fraction_exponents(m, (int)m->mode, nf, nwl, beta, prev[nwl], len, log_kept);
-        for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)(prev[c] + log_kept[c]), LOG_FLOOR);
-        out[nwl] = m->mode != SL_LIGHTING_LOW_ALBEDO
-                       ? (float)sl_expected_scatter_count(m, (int)m->mode, nf, nwl, beta, prev[nwl], len)
-                       : (float)prev[nwl];
+        /* One light step on the stored ln I and n (no exponential and logarithm around it). */
+        for (int s = 0; s <= nwl; ++s) out[s] = (float)prev[s];
+        sl_log_light_step_at(m, (int)m->mode, nf, nwl, beta, len, out, 0);
+        for (int c = 0; c < nwl; ++c) out[c] = fmaxf(out[c], LOG_FLOOR);
       }
     if (kk % SWEEP_PLANES == SWEEP_PLANES - 1 || kk == n[axis] - 1) {
       /* The planes since the last flush into the volume, sample by sample across them. */

@@ -41,8 +41,7 @@ void sl_light_model_subset(const sl_light_model *m, unsigned mask, sl_light_mode
 double sl_log_forward_product(const sl_light_model *m, int j, int c, double n, double events);
 
 /* Intensity fraction left after a path `len` inside one slab for every wavelength, as
- * sl_light_step_at (sl_sample_physics.h) applies it, without updating anything (for the
- * within-slab light). */
+ * sl_log_light_step_at (sl_sample_physics.h) applies it, without updating anything. */
 void sl_light_fraction(const sl_light_model *m, const float *beta, double n, double len, double *fraction);
 
 /* Eq. 26's angular term (Ams_{n+1} + xi) per wavelength at the sample: the fields' Ams tables

@@ -854,9 +854,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         if (!(beta > 0.0)) continue;
         /* The light buffer holds the light up to this slab's first plane; from there the light
          * crosses this slab's own medium for a path that grows linearly along the eye segment.
-         * The buffer value is taken linear between the segment's two ends and the slab's own
+         * The buffer's ln I is taken linear between the segment's two ends and the slab's own
          * attenuation exponential in the path, so the gather has a closed form
-         * (sl_segment_scatter_moments). */
+         * (sl_segment_scatter_moment_exp). */
         const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
         const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
         const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};

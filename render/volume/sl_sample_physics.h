@@ -123,7 +123,7 @@ SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL
 
 /* The fraction of the light per wavelength kept in the forward beam after a path len through a
  * sample of extinction beta[j] per field (m^-1) that the light reaches having scattered n times
- * on average, as its logarithm log_kept[c]; returns the optical depth ext len.
+ * on average, as its logarithm log_kept[c].
  *
  * Riley et al. 2004, eq. 24, prints T + (1 - T) prod_{i=n+1}^{n+m} albedo F_i with T the
  * slab's transparency and m its expected number of scattering events: the scattered light
@@ -142,8 +142,8 @@ SL_INLINE SL_REAL sl_log_forward_product_at(SL_MODEL_PARAM int j, int c, SL_REAL
  * per-field split). Eq. 25 (`--lighting eq25`) stays as printed, the paper's GPU workaround;
  * the low-albedo model keeps the plain transparency. The logarithm is finite (at most the
  * optical depth), so the CPU's eye pass takes a whole batch's exponentials in one loop. */
-SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n,
-                                              SL_REAL len, SL_OUT_ARRAY(SL_REAL, log_kept, SL_MAX_WAVELENGTHS))
+SL_INLINE void sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), SL_REAL n,
+                                           SL_REAL len, SL_OUT_ARRAY(SL_REAL, log_kept, SL_MAX_WAVELENGTHS))
 {
   SL_REAL ext = 0.0;
   SL_UNROLL
@@ -152,7 +152,7 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
   if (SL_MODE == SL_MODE_LOW_ALBEDO) {
     SL_UNROLL
     for (int c = 0; c < SL_NWL; ++c) log_kept[c] = -depth;
-    return depth;
+    return;
   }
   SL_REAL rate = sl_scattering_per_metre(SL_MODEL_ARG beta);
   SL_REAL events = rate * len;
@@ -201,7 +201,6 @@ SL_INLINE SL_REAL sl_light_fraction_exponents(SL_MODEL_PARAM SL_IN_ARRAY(float, 
     }
     log_kept[c] = scatters ? log_fraction : -depth;
   }
-  return depth;
 }
 
 /* The fraction of the light per wavelength left after a path len through the sample (eq. 24 as
@@ -308,23 +307,13 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
 }
 
 #ifndef SL_GLSL
-/* C only (it updates through a pointer): one light-buffer step through a chord len of a sample
- * with per-field extinction beta, on the state at state[o...]: I per wavelength times eq. 24's (or
- * 25's) fraction, then n grown by eq. 21. The state is reached by an int offset so that a loop of
- * these steps over scattered texels vectorises (gathers and scatters). The GPU sweep writes the
- * same two lines in GLSL around sl_light_fraction_at. */
-SL_INLINE void sl_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *state, int o)
-{
-  SL_REAL n = state[o + SL_NWL];
-  SL_REAL fraction[SL_MAX_WAVELENGTHS];
-  sl_light_fraction_at(SL_MODEL_ARG beta, n, len, fraction);
-  SL_UNROLL
-  for (int c = 0; c < SL_NWL; ++c) state[o + c] = (float)(state[o + c] * fraction[c]);
-  if (SL_MODE != SL_MODE_LOW_ALBEDO) state[o + SL_NWL] = (float)sl_expected_scatter_count(SL_MODEL_ARG beta, n, len);
-}
-/* C only: the same step on a state that holds ln I (the slicer's light buffer): ln I gains the
- * log of the kept fraction, which eq. 24's form gives as an exponent already, so the step takes
- * no exponential. */
+/* C only (it updates through a pointer): one light step through a chord len of a sample with
+ * per-field extinction beta, on the state at state[o...] that holds ln I per wavelength and n:
+ * ln I gains the log of eq. 24's (or 25's) kept fraction, which is an exponent already (no
+ * exponential), then n grows by eq. 21. The state is reached by an int offset so that a loop of
+ * these steps over scattered texels vectorises (gathers and scatters). The slicer's light buffer
+ * and the light volume's sweep take it; the GPU sweep writes the same lines in GLSL around
+ * sl_light_fraction_exponents. */
 SL_INLINE void sl_log_light_step_at(SL_MODEL_PARAM const float beta[SL_MAX_FIELDS], SL_REAL len, float *state, int o)
 {
   SL_REAL n = state[o + SL_NWL];
