@@ -53,7 +53,7 @@ cJSON *json_array(const std::vector<double> &v)
 void table_options(sl::Options &o)
 {
   o.option("step", "DEG", "angular grid of the tables", "0.1");
-  o.option("radii", "N", "quadrature points across each size distribution", "32");
+  o.option("radii", "N", "quadrature points across each size distribution", "256");
   o.option("rays", "N", "ice ray-tracing rays per wavelength and habit", "400000");
   o.option("cache-dir", "DIR", "table cache (default $SL_CACHE_DIR, $XDG_CACHE_HOME/stormlight, ~/.cache/stormlight)");
   o.flag("no-cache", "neither read nor write the table cache");

@@ -53,7 +53,7 @@ typedef struct sl_optics_request {
   int n_moments;             /* Legendre moments used for Ams_n; 0 = 2 * 180 / step */
   double truncation_deg;     /* forward-peak truncation cone (half angle), default 0.5 (the sun's
                                 disk); 0 = one grid step */
-  int radius_samples;        /* quadrature points across each size distribution, default 48 */
+  int radius_samples;        /* quadrature points across each size distribution, default 256 */
   long ice_rays;             /* geometric-optics rays per wavelength and habit, default 400000 */
   unsigned long long seed;   /* ice ray tracing; results do not depend on the thread count */
   const char *cache_dir;     /* NULL: $SL_CACHE_DIR, $XDG_CACHE_HOME/stormlight, ~/.cache/stormlight;

@@ -32,7 +32,11 @@ void sl_optics_request_defaults(sl_optics_request *req)
   req->isotropy_tolerance = 1e-4;
   req->n_moments = 0;
   req->truncation_deg = 0.5;
-  req->radius_samples = 32;
+  /* 256: at 32 the quadrature's nodes lie 5.6 size-parameter units apart for cloud droplets,
+   * coarser than the glory's ripple in x (its P near 177 degrees 15 % high), and the 1 mm drops'
+   * unaveraged interference scattered rain's P by +-20 % between neighbouring angles inside the
+   * primary bow, which a rendered rainbow showed as coloured arcs (docs/ACCURACY.md). */
+  req->radius_samples = 256;
   req->ice_rays = 400000;
   req->seed = 20040612ULL;
   req->cache_dir = NULL;
