@@ -33,7 +33,7 @@ void sl_optics_request_defaults(sl_optics_request *req)
   req->n_moments = 0;
   req->truncation_deg = 0.5;
   /* 256: at 32 the quadrature's nodes lie 5.6 size-parameter units apart for cloud droplets,
-   * coarser than the glory's ripple in x (its P near 177 degrees 15 % high), and the 1 mm drops'
+   * coarser than the glory's ripple in x (its P at 176-178 degrees 10-16 % high), and the 1 mm drops'
    * unaveraged interference scattered rain's P by +-20 % between neighbouring angles inside the
    * primary bow, which a rendered rainbow showed as coloured arcs (docs/ACCURACY.md). */
   req->radius_samples = 256;

@@ -588,8 +588,8 @@ static inline __attribute__((always_inline)) void eye_batch_phases(
  * keeps over the probe path, eq. 24, per metre), and the closed-form gather of
  * sl_segment_scatter_moments; radiance[c][s] is the light sample s sends toward the eye at
  * wavelength c before the eye's own attenuation in front of it. Loops over the samples inside
- * loops over the wavelengths, each branch-free, so that every one vectorises (libmvec's exp, log
- * and expm1) whatever the wavelength count. */
+ * loops over the wavelengths, each branch-free, so that every one vectorises (libmvec's exp and
+ * expm1) whatever the wavelength count. */
 static inline __attribute__((always_inline)) void eye_batch_radiance(
     const int nwl, const int live, const double *restrict beta, const double *restrict inv_beta,
     const double *restrict len, const double *restrict inv_len, const double *restrict inv_probe,
@@ -826,9 +826,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           cnt += found;
         }
         /* Then in three loops: per sample its fields, light-buffer values and table look-ups
-         * (scalar: they gather from tables); the exponentials, logarithms and moments of every
-         * sample and wavelength at once (one vector loop over the samples, no branch, libmvec's
-         * exp and log); the accumulation into the pixels. */
+         * (scalar: they gather from tables); the exponentials and moments of every sample and
+         * wavelength at once (one vector loop over the samples, no branch, libmvec's exp); the accumulation into the pixels. */
         for (int si = 0; si < cnt;) {
         int live = 0;
         for (; si < cnt && live <= EYE_BATCH - EYE_PARTS_MAX; ++si) {
