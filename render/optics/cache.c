@@ -9,6 +9,7 @@
  * anything else is rebuilt and overwritten. Files are written to a temporary name in the
  * same directory and renamed into place. */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -236,4 +237,34 @@ done:
   free(buf);
   if (status != SL_OK) return sl_fail(err, status, "optics cache: %s is stale or corrupt", path);
   return SL_OK;
+}
+
+int optics_cache_lock(const char *path)
+{
+  char dir[1024], lock[1100];
+  snprintf(dir, sizeof dir, "%s", path);
+  char *slash = strrchr(dir, '/');
+  if (slash) {
+    *slash = '\0';
+    if (make_dirs(dir) != 0) return -1;
+  }
+  snprintf(lock, sizeof lock, "%s.lock", path);
+  const int fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return -1;
+  /* A POSIX record lock (it works over NFS, where flock may not), released by the kernel if the
+   * process dies while it builds. The lock file stays: removing it would race with a waiter. */
+  struct flock whole = {.l_type = F_WRLCK, .l_whence = SEEK_SET, .l_start = 0, .l_len = 0};
+  int rc;
+  while ((rc = fcntl(fd, F_SETLKW, &whole)) != 0 && errno == EINTR) {
+  }
+  if (rc != 0) {
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+void optics_cache_unlock(int fd)
+{
+  if (fd >= 0) close(fd); /* closing releases the process's locks on the file */
 }

@@ -62,5 +62,11 @@ int optics_cache_load(const char *path, const char *key, sl_phase_table *tables,
 int optics_cache_store(const char *path, const char *key, const sl_phase_table *tables, int n_tables,
                        sl_error *err);
 unsigned long long optics_fnv1a(const void *data, size_t n, unsigned long long h);
+/* An exclusive lock on the cache entry path (a file path.lock beside it), waited for: processes
+ * that miss the same entry at once build it once, the others load it. Returns a descriptor to
+ * pass to optics_cache_unlock, or -1 where the lock cannot be taken (a read-only cache, a file
+ * system without locks): the caller then builds unlocked, as before. */
+int optics_cache_lock(const char *path);
+void optics_cache_unlock(int fd);
 
 #endif

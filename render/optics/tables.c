@@ -189,6 +189,19 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
       }
       if (loaded != SL_ERR_IO) T->stats.cache_rejected++; /* present but stale or corrupt */
     }
+    /* A miss: take the entry's lock, then look again, since another process (a test run in
+     * parallel, a time series' ranks) may have built it while this one waited. */
+    const int lock = use_cache ? optics_cache_lock(path) : -1;
+    if (lock >= 0) {
+      sl_error load_err = {0};
+      if (optics_cache_load(path, key, tables, r->n_wavelengths, &load_err) == SL_OK) {
+        optics_cache_unlock(lock);
+        T->stats.tables_loaded++;
+        T->stats.load_seconds += now_seconds() - t0;
+        if (r->progress) r->progress(r->progress_user, (double)++done / count);
+        continue;
+      }
+    }
     t0 = now_seconds();
     status = build_particle(r, (sl_particle)p, &g, &params, tables, (double)done / count, 1.0 / count, err);
     T->stats.build_seconds += now_seconds() - t0;
@@ -200,6 +213,7 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
         (void)optics_cache_store(path, key, tables, r->n_wavelengths, &store_err);
       }
     }
+    optics_cache_unlock(lock);
     ++done;
   }
   optics_grid_free(&g);
