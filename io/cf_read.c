@@ -7,8 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
+#include "sl_geo.h"
 #include "storm_internal.h"
 
 #define CF_RD 287.0          /* J/(kg K), as WRF and CM1 */
@@ -185,6 +187,50 @@ static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info
   return SL_OK;
 }
 
+/* The latitude and longitude of a projected CF grid's centre column, from its grid_mapping's
+ * origin (latitude_of_projection_origin, the central longitude, false_easting/northing: CF's x
+ * and y are the projection's plane coordinates from that origin, false easting and northing
+ * included, all in the coordinates' units).
+ * Leaves NaN where the file gives no grid_mapping or no origin. On WRF's sphere, as every
+ * projection here; the centre places the sun and the air mass, for which a sphere serves. */
+static void cf_projected_centre(const sl_nc *f, const cf_layout *L, const sl_storm_info *info, const sl_subset *s,
+                                sl_storm_frame *frame)
+{
+  int varid, gid, xid, yid;
+  char gm[NC_MAX_NAME + 1] = "";
+  if (nc_inq_varid(f->id, L->ref, &varid) != NC_NOERR || !sl_nc_attr_text(f, varid, "grid_mapping", gm, sizeof gm) ||
+      nc_inq_varid(f->id, gm, &gid) != NC_NOERR)
+    return;
+  const int mercator = info->map_proj == 3;
+  if (info->map_proj != 1 && info->map_proj != 2 && !mercator) return;
+  const double lon0 = sl_nc_attr_double(
+      f, gid, "longitude_of_central_meridian",
+      sl_nc_attr_double(f, gid, "straight_vertical_longitude_from_pole",
+                        sl_nc_attr_double(f, gid, "longitude_of_projection_origin", NAN)));
+  const double lat0 = sl_nc_attr_double(f, gid, "latitude_of_projection_origin", mercator ? 0.0 : NAN);
+  const double fe = sl_nc_attr_double(f, gid, "false_easting", 0.0), fn = sl_nc_attr_double(f, gid, "false_northing", 0.0);
+  /* Mercator's true latitude may be given as its scale at the equator instead (k0 = cos phi_ts). */
+  double truelat1 = info->truelat1, truelat2 = info->truelat2;
+  if (mercator && !isfinite(truelat1)) {
+    const double k0 = sl_nc_attr_double(f, gid, "scale_factor_at_projection_origin", 1.0);
+    truelat1 = truelat2 = k0 > 0.0 && k0 <= 1.0 ? acos(k0) * 180.0 / M_PI : NAN;
+  }
+  sl_projection p;
+  char why[200];
+  if (!isfinite(lat0) || !isfinite(lon0) ||
+      sl_projection_init(&p, info->map_proj, truelat1, truelat2, lon0, 90.0, 0.0, why, sizeof why))
+    return;
+  const size_t ix = s->i0 + (s->nx / 2) * s->stride, iy = s->j0 + (s->ny / 2) * s->stride;
+  double x, y, x0, y0, lat, lon;
+  if (nc_inq_varid(f->id, L->coord[3], &xid) != NC_NOERR || !sl_nc_var_is_1d(f, xid, ix + 1, NULL) ||
+      nc_get_var1_double(f->id, xid, &ix, &x) != NC_NOERR || nc_inq_varid(f->id, L->coord[2], &yid) != NC_NOERR ||
+      !sl_nc_var_is_1d(f, yid, iy + 1, NULL) || nc_get_var1_double(f->id, yid, &iy, &y) != NC_NOERR)
+    return;
+  sl_projection_forward(&p, lat0, lon0, &x0, &y0);
+  sl_projection_reverse(&p, x0 + (x - fe) * L->x_to_m, y0 + (y - fn) * L->y_to_m, &lat, &lon);
+  if (fabs(lat) <= 90.0 && isfinite(lon)) frame->center_lat = lat, frame->center_lon = lon - 360.0 * floor((lon + 180.0) / 360.0);
+}
+
 /* Times from a CF time coordinate "<unit> since <date>"; CM1's bare "seconds" stays index-only. */
 static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
@@ -260,11 +306,62 @@ typedef struct cf_levels {
   sl_var_cache cache;
 } cf_levels;
 
-static int cf_var(cf_levels *c, const char *name, sl_nc_var *v, sl_error *err)
+/* What a variable measures, for its units. */
+typedef enum cf_quantity { CF_MASS_FRACTION, CF_PRESSURE, CF_TEMPERATURE, CF_DENSITY } cf_quantity;
+
+/* A units string without spaces, '*' and '^' (so "kg kg-1", "kg kg**-1" and "kg kg^-1" read alike). */
+static void cf_units_squeezed(const char *in, char *out, size_t cap)
+{
+  size_t n = 0;
+  for (; *in && n + 1 < cap; ++in)
+    if (*in != ' ' && *in != '*' && *in != '^') out[n++] = *in;
+  out[n] = '\0';
+}
+
+/* Folds v's units into its unpacking (value = packed * scale + offset), so that reads give the SI
+ * unit the reader computes in: kg/kg for mixing ratios and mass fractions, Pa, K, kg m-3. A CF
+ * file in g/kg, hPa or degrees Celsius read as SI would render a cloud 1000x too dense, air 100x
+ * too thin or 24x too dense, without a word. No units attribute reads as SI (older CM1 and
+ * hand-made files omit it); units not known here are an error naming the variable. */
+static int cf_apply_units(const sl_nc *f, sl_nc_var *v, cf_quantity q, sl_error *err)
+{
+  static const struct {
+    cf_quantity q;
+    const char *units;
+    double scale, offset;
+  } known[] = {
+      {CF_MASS_FRACTION, "kgkg-1", 1, 0},   {CF_MASS_FRACTION, "kg/kg", 1, 0},  {CF_MASS_FRACTION, "1", 1, 0},
+      {CF_MASS_FRACTION, "kgkg**-1", 1, 0}, {CF_MASS_FRACTION, "gkg-1", 1e-3, 0}, {CF_MASS_FRACTION, "g/kg", 1e-3, 0},
+      {CF_MASS_FRACTION, "g/g", 1, 0},      {CF_MASS_FRACTION, "gg-1", 1, 0},     {CF_PRESSURE, "Pa", 1, 0},
+      {CF_PRESSURE, "hPa", 100, 0},         {CF_PRESSURE, "mbar", 100, 0},        {CF_PRESSURE, "millibar", 100, 0},
+      {CF_PRESSURE, "mb", 100, 0},          {CF_PRESSURE, "kPa", 1000, 0},        {CF_TEMPERATURE, "K", 1, 0},
+      {CF_TEMPERATURE, "kelvin", 1, 0},     {CF_TEMPERATURE, "degK", 1, 0},       {CF_TEMPERATURE, "deg_K", 1, 0},
+      {CF_TEMPERATURE, "degC", 1, 273.15},  {CF_TEMPERATURE, "deg_C", 1, 273.15}, {CF_TEMPERATURE, "celsius", 1, 273.15},
+      {CF_TEMPERATURE, "degree_Celsius", 1, 273.15}, {CF_TEMPERATURE, "degrees_Celsius", 1, 273.15},
+      {CF_DENSITY, "kgm-3", 1, 0},          {CF_DENSITY, "kg/m3", 1, 0},          {CF_DENSITY, "gm-3", 1e-3, 0},
+      {CF_DENSITY, "g/m3", 1e-3, 0},
+  };
+  static const char *const si[] = {"kg kg-1", "Pa", "K", "kg m-3"};
+  char units[128] = "", squeezed[128];
+  if (!sl_nc_attr_text(f, v->varid, "units", units, sizeof units)) return SL_OK;
+  cf_units_squeezed(units, squeezed, sizeof squeezed);
+  if (!squeezed[0]) return SL_OK;
+  for (size_t i = 0; i < sizeof known / sizeof known[0]; ++i)
+    if (known[i].q == q && strcasecmp(known[i].units, squeezed) == 0) {
+      v->offset = v->offset * known[i].scale + known[i].offset;
+      v->scale *= known[i].scale;
+      return SL_OK;
+    }
+  return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' has units '%s', which this reader cannot convert to %s",
+                 f->path, v->name, units, si[q]);
+}
+
+static int cf_var(cf_levels *c, const char *name, cf_quantity q, sl_nc_var *v, sl_error *err)
 {
   const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
   const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
-  return sl_nc_var_open(c->f, name, 3, dims, lens, v, err);
+  const int rc = sl_nc_var_open(c->f, name, 3, dims, lens, v, err);
+  return rc ? rc : cf_apply_units(c->f, v, q, err);
 }
 
 static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
@@ -323,9 +420,11 @@ static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
   cf_levels *c = ctx;
   const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
   const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
-  const sl_nc_var *v;
-  const int rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &v, err);
-  return rc ? rc : cf_block(c, v, out, err);
+  const sl_nc_var *cached;
+  int rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &cached, err);
+  if (rc) return rc;
+  sl_nc_var v = *cached;
+  return (rc = cf_apply_units(c->f, &v, CF_MASS_FRACTION, err)) ? rc : cf_block(c, &v, out, err);
 }
 
 /* A variable by CM1 name or by CF standard_name. */
@@ -408,15 +507,15 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if ((rc = cf_heights(f, &L, c.z_iface, err))) goto done;
   /* Air: density itself, or pressure with temperature or potential temperature; vapour optional. */
   char name[NC_MAX_NAME + 1];
-  if ((c.have_rho = find_var(f, 0, "", "air_density", name)) && (rc = cf_var(&c, name, &c.rho, err))) goto done;
-  if ((c.have_temp = find_var(f, 0, "", "air_temperature", name)) && (rc = cf_var(&c, name, &c.temp, err))) goto done;
+  if ((c.have_rho = find_var(f, 0, "", "air_density", name)) && (rc = cf_var(&c, name, CF_DENSITY, &c.rho, err))) goto done;
+  if ((c.have_temp = find_var(f, 0, "", "air_temperature", name)) && (rc = cf_var(&c, name, CF_TEMPERATURE, &c.temp, err))) goto done;
   if (!c.have_temp && (c.have_theta = find_var(f, L.cm1, "th", "air_potential_temperature", name)) &&
-      (rc = cf_var(&c, name, &c.theta, err)))
+      (rc = cf_var(&c, name, CF_TEMPERATURE, &c.theta, err)))
     goto done;
   if ((c.have_qv = find_var(f, L.cm1, "qv", "humidity_mixing_ratio", name))) {
-    if ((rc = cf_var(&c, name, &c.qv, err))) goto done;
+    if ((rc = cf_var(&c, name, CF_MASS_FRACTION, &c.qv, err))) goto done;
   } else if ((c.have_qv = c.qv_specific = find_var(f, 0, "", "specific_humidity", name))) {
-    if ((rc = cf_var(&c, name, &c.qv, err))) goto done;
+    if ((rc = cf_var(&c, name, CF_MASS_FRACTION, &c.qv, err))) goto done;
   }
   const int have_p = find_var(f, L.cm1, "prs", "air_pressure", name);
   if (!c.have_rho && (!have_p || (!c.have_temp && !c.have_theta))) {
@@ -424,7 +523,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
                  L.cm1 ? "prs and th" : "air_density, or air_pressure with air_temperature or air_potential_temperature");
     goto done;
   }
-  if (!c.have_rho && (rc = cf_var(&c, name, &c.p, err))) goto done;
+  if (!c.have_rho && (rc = cf_var(&c, name, CF_PRESSURE, &c.p, err))) goto done;
   for (int i = 0; i < nspecies; ++i)
     if (species[i].warm != species[i].cold && !c.have_temp && !c.have_theta) {
       rc = sl_fail(err, SL_ERR_FORMAT, "%s: splitting '%s' at 0 C needs a temperature", f->path, species[i].variable);
@@ -436,9 +535,11 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz,
                             (const double[2]){info->dx * s.stride, info->dy * s.stride}, NULL, NULL, frame, err)))
     goto done;
-  /* CM1 and projected CF grids without 2-D latitudes carry no position: NaN asks for --date and
-   * --sun angles; latitude-longitude grids know their centre. */
+  /* CM1 and projected CF grids without a projection origin carry no position: NaN asks for the
+   * sun's angles; latitude-longitude grids know their centre, projected ones find it through
+   * their grid_mapping. */
   frame->center_lat = frame->center_lon = NAN;
+  if (L.x_to_m != 0.0 && !L.cm1) cf_projected_centre(f, &L, info, &s, frame);
   if (L.x_to_m == 0.0) {
     double x, y;
     size_t ix = s.i0 + (s.nx / 2) * s.stride, iy = s.j0 + (s.ny / 2) * s.stride;

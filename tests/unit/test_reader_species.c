@@ -234,6 +234,56 @@ static void test_cm1_and_cf(void)
     CHECK_CLOSE(f.model_top, 1000.0, 1e-9, 0.0); /* one level at 500 m: interfaces 0 and 1000 */
     sl_storm_frame_free(&f);
   }
+  /* The same air and cloud in the units people write: g/kg, degrees Celsius, hPa. Read as SI they
+   * made a cloud 1000x too dense in air 100x too thin; converted, the same densities as above. */
+  const char *cf_units =
+      "netcdf cfu {\n dimensions: time = 1 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " double time(time) ; time:units = \"hours since 2024-06-15 00:00:00\" ;\n"
+      " float z(z) ; z:units = \"m\" ; z:positive = \"up\" ; float y(y) ; y:units = \"km\" ;"
+      " float x(x) ; x:units = \"km\" ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;"
+      " cl:units = \"g kg-1\" ;\n float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;"
+      " ta:units = \"%s\" ;\n float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ; pa:units = \"hPa\" ;\n"
+      " float hus(time, z, y, x) ; hus:standard_name = \"specific_humidity\" ; hus:units = \"kg/kg\" ;\n data:\n"
+      " time = 22 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1, 1, 1, 1 ;\n"
+      " ta = 18.012, 18.012, 18.012, 18.012 ; pa = 850, 850, 850, 850 ; hus = 0.01, 0.01, 0.01, 0.01 ;\n}\n";
+  snprintf(text, sizeof text, cf_units, "degC");
+  const char *cfu = make("cfu", text);
+  if (!load(cfu, NULL, &f)) {
+    const double eps = 287.05 / 461.5, tv = 291.162 * (1.0 + 0.01 * (1.0 / eps - 1.0));
+    CHECK_CLOSE(eta_at(&f, SL_CLOUD, 1, 1), 85000.0 / (287.05 * tv) * 1e-3 / sphere_mass(10e-6, 1000.0), 1e-3, 0.0);
+    sl_storm_frame_free(&f);
+  }
+  snprintf(text, sizeof text, cf_units, "degF");
+  const char *cff = make("cff", text);
+  sl_error_clear(&err);
+  CHECK(sl_storm_load(cff, NULL, &f, &err) == SL_ERR_FORMAT && strstr(err.message, "'ta'") &&
+        strstr(err.message, "degF"));
+  printf("%s\n", err.message);
+  /* A projected grid without 2-D latitudes is placed by its grid_mapping's origin: a tangent
+   * cone at 30 N whose centre column sits at the false easting (on the central meridian) and
+   * 111.177 km north of the origin: one degree of meridian on WRF's sphere (R = 6370 km), where
+   * a tangent cone's scale is 1 to second order (error ~ (111/6370)^2 deg). */
+  const char *cf_origin =
+      "netcdf cfo {\n dimensions: time = 1 ; z = 1 ; y = 3 ; x = 3 ;\n variables:\n"
+      " double time(time) ; time:units = \"hours since 2024-06-15 00:00:00\" ;\n"
+      " float z(z) ; z:units = \"m\" ; z:positive = \"up\" ; float y(y) ; y:units = \"km\" ;"
+      " y:standard_name = \"projection_y_coordinate\" ; float x(x) ; x:units = \"km\" ;"
+      " x:standard_name = \"projection_x_coordinate\" ;\n int lcc ; lcc:grid_mapping_name = \"lambert_conformal_conic\" ;"
+      " lcc:standard_parallel = 30. ; lcc:longitude_of_central_meridian = -97. ; lcc:latitude_of_projection_origin = 30. ;"
+      " lcc:false_easting = 400. ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ; cl:grid_mapping = \"lcc\" ;\n"
+      " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
+      " time = 22 ; z = 500 ; y = 108.177, 111.177, 114.177 ; x = 397, 400, 403 ; lcc = 0 ; cl = 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4 ;\n"
+      " ta = 291, 291, 291, 291, 291, 291, 291, 291, 291 ; pa = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n}\n";
+  const char *cfo = make("cfo", cf_origin);
+  if (!load(cfo, NULL, &f)) {
+    printf("projected CF centre: %.5f N %.5f E (expected 31, -97)\n", f.center_lat, f.center_lon);
+    CHECK_CLOSE(f.center_lat, 31.0, 0.0, 0.01);
+    CHECK_CLOSE(f.center_lon, -97.0, 0.0, 1e-9);
+    sl_storm_frame_free(&f);
+  }
   snprintf(text, sizeof text, cf_text, "geostationary");
   const char *geos = make("geos", text);
   sl_error_clear(&err);
