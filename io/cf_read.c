@@ -394,6 +394,11 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
     /* Specific humidity q_s is per kg of moist air: mixing ratio q_s / (1 - q_s). */
     const double q = fmax(qv[i], 0.0), r = c->qv_specific ? q / (1.0 - q) : q;
     double t = c->have_temp || c->have_theta ? temp[i] : INFINITY, rho;
+    if (!(t > 0.0)) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive %s temperature %g K at time %d", c->f->path,
+                   c->have_temp ? "air" : "potential", t, c->t);
+      break;
+    }
     if (c->have_rho) {
       rho = a[i] / (1.0 + r);
     } else {
@@ -478,6 +483,11 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   free(zh);
   for (size_t k = 0; k < n; ++k)
     if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->coord[1]);
+  /* Weather lies below the stratopause; a grid reaching past 100 km (or 10 km below the sea) is
+   * metres labelled km, or not heights at all (the horizontal spacing has its own bound). */
+  if (!(zi[n] <= 1e5) || !(zi[0] >= -1e4))
+    return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' span %g to %g m, not an atmosphere (are its units right?)",
+                   f->path, L->coord[1], zi[0], zi[n]);
   return SL_OK;
 }
 

@@ -284,6 +284,26 @@ static void test_cm1_and_cf(void)
     CHECK_CLOSE(f.center_lon, -97.0, 0.0, 1e-9);
     sl_storm_frame_free(&f);
   }
+  /* Air at 0 K (or below) has no density; heights of 5000 km are metres labelled km. Both are
+   * refused, naming the problem (0 K used to surface as a negative cloud concentration). */
+  const char *cf_bad =
+      "netcdf cfb {\n dimensions: z = 2 ; y = 2 ; x = 2 ;\n variables:\n"
+      " float z(z) ; z:units = \"%s\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
+      " float cl(z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+      " float ta(z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
+      " z = 250, 750 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4 ;\n"
+      " ta = %s ; pa = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n}\n";
+  snprintf(text, sizeof text, cf_bad, "m", "290, 290, 290, 0, 290, 290, 290, 290");
+  const char *cold = make("cold", text);
+  sl_error_clear(&err);
+  CHECK(sl_storm_load(cold, NULL, &f, &err) == SL_ERR_DATA && strstr(err.message, "non-positive air temperature"));
+  printf("%s\n", err.message);
+  snprintf(text, sizeof text, cf_bad, "km", "290, 290, 290, 290, 290, 290, 290, 290");
+  const char *tall = make("tall", text);
+  sl_error_clear(&err);
+  CHECK(sl_storm_load(tall, NULL, &f, &err) == SL_ERR_DATA && strstr(err.message, "not an atmosphere"));
+  printf("%s\n", err.message);
   snprintf(text, sizeof text, cf_text, "geostationary");
   const char *geos = make("geos", text);
   sl_error_clear(&err);
