@@ -91,6 +91,35 @@ done:
   return rc;
 }
 
+/* The CF axis a coordinate variable declares ('X', 'Y', 'Z' or 'T'), by its axis attribute, its
+ * standard_name or its units (degrees_east/north, a time "since"); 0 when it says nothing. */
+static char cf_axis_of(const sl_nc *f, const char *coord)
+{
+  int id;
+  if (nc_inq_varid(f->id, coord, &id) != NC_NOERR) return 0;
+  char axis[8] = "", std[128] = "", units[128] = "";
+  sl_nc_attr_text(f, id, "axis", axis, sizeof axis);
+  if (strlen(axis) == 1 && strchr("XYZTxyzt", axis[0])) return (char)(axis[0] & ~0x20);
+  sl_nc_attr_text(f, id, "standard_name", std, sizeof std);
+  static const struct {
+    const char *name;
+    char axis;
+  } names[] = {{"projection_x_coordinate", 'X'}, {"longitude", 'X'}, {"grid_longitude", 'X'},
+               {"projection_y_coordinate", 'Y'}, {"latitude", 'Y'},  {"grid_latitude", 'Y'},
+               {"height", 'Z'},                  {"altitude", 'Z'},  {"time", 'T'}};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+    if (strcmp(std, names[i].name) == 0) return names[i].axis;
+  sl_nc_attr_text(f, id, "units", units, sizeof units);
+  if (strcasecmp(units, "degrees_east") == 0 || strcasecmp(units, "degree_east") == 0 ||
+      strcasecmp(units, "degree_E") == 0 || strcasecmp(units, "degrees_E") == 0)
+    return 'X';
+  if (strcasecmp(units, "degrees_north") == 0 || strcasecmp(units, "degree_north") == 0 ||
+      strcasecmp(units, "degree_N") == 0 || strcasecmp(units, "degrees_N") == 0)
+    return 'Y';
+  if (strstr(units, " since ")) return 'T';
+  return 0;
+}
+
 static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_error *err)
 {
   memset(L, 0, sizeof *L);
@@ -128,6 +157,23 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
     snprintf(L->coord[1], sizeof L->coord[1], "zh");
     snprintf(L->coord[2], sizeof L->coord[2], "yh");
     snprintf(L->coord[3], sizeof L->coord[3], "xh");
+  }
+  /* The reader takes the dimensions by position, (time,) z, y, x; where the coordinates say which
+   * axis they are, they must agree, or a (time, z, x, y) variable on a square grid would be read
+   * with x and y swapped without a word. */
+  for (int slot = 4 - nd; slot < 4 && !L->cm1; ++slot) {
+    const char got = cf_axis_of(f, L->coord[slot]);
+    if (got && got != "TZYX"[slot]) {
+      char order[4 * (NC_MAX_NAME + 2)] = "";
+      for (int d = 4 - nd; d < 4; ++d) {
+        if (d > 4 - nd) strcat(order, ", ");
+        strcat(order, L->dim[d]);
+      }
+      return sl_fail(err, SL_ERR_FORMAT,
+                     "%s: '%s' has dimensions (%s): coordinate '%s' is the %c axis where the reader expects %c; "
+                     "expected (time,) z, y, x",
+                     f->path, L->ref, order, L->coord[slot], got, "TZYX"[slot]);
+    }
   }
   for (int d = 0; d < 4; ++d)
     if (L->len[d] == 0 || L->len[d] > 100000)

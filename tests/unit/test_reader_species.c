@@ -304,6 +304,21 @@ static void test_cm1_and_cf(void)
   sl_error_clear(&err);
   CHECK(sl_storm_load(tall, NULL, &f, &err) == SL_ERR_DATA && strstr(err.message, "not an atmosphere"));
   printf("%s\n", err.message);
+  /* A square grid stored (z, x, y): by position alone x and y would swap without a word; the
+   * coordinates say which axis they are, and the load refuses. */
+  const char *cf_swapped =
+      "netcdf cfs {\n dimensions: z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; y:axis = \"Y\" ;"
+      " float x(x) ; x:units = \"km\" ; x:standard_name = \"projection_x_coordinate\" ;\n"
+      " float cl(z, x, y) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+      " float ta(z, x, y) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(z, x, y) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
+      " z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-4, 0, 0, 0 ; ta = 290, 290, 290, 290 ;"
+      " pa = 85000, 85000, 85000, 85000 ;\n}\n";
+  const char *swapped = make("swapped", cf_swapped);
+  sl_error_clear(&err);
+  CHECK(sl_storm_read_info(swapped, info, &err) == SL_ERR_FORMAT && strstr(err.message, "expected (time,) z, y, x"));
+  printf("%s\n", err.message);
   snprintf(text, sizeof text, cf_text, "geostationary");
   const char *geos = make("geos", text);
   sl_error_clear(&err);
