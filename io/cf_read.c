@@ -228,8 +228,15 @@ static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info
     info->truelat1 = par[0];
     info->truelat2 = n == 2 ? par[1] : par[0];
   }
-  info->stand_lon = sl_nc_attr_double(f, gid, "longitude_of_central_meridian",
-                                      sl_nc_attr_double(f, gid, "straight_vertical_longitude_from_pole", NAN));
+  info->stand_lon = sl_nc_attr_double(
+      f, gid, "longitude_of_central_meridian",
+      sl_nc_attr_double(f, gid, "straight_vertical_longitude_from_pole",
+                        sl_nc_attr_double(f, gid, "longitude_of_projection_origin", NAN)));
+  /* Mercator's true latitude may be given as its scale at the equator instead (k0 = cos phi_ts). */
+  if (info->map_proj == 3 && !isfinite(info->truelat1)) {
+    const double k0 = sl_nc_attr_double(f, gid, "scale_factor_at_projection_origin", 1.0);
+    info->truelat1 = info->truelat2 = k0 > 0.0 && k0 <= 1.0 ? acos(k0) * 180.0 / M_PI : NAN;
+  }
   return SL_OK;
 }
 
@@ -239,40 +246,37 @@ static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info
  * included, all in the coordinates' units).
  * Leaves NaN where the file gives no grid_mapping or no origin. On WRF's sphere, as every
  * projection here; the centre places the sun and the air mass, for which a sphere serves. */
+/* The x and y coordinate values (in the file's units) of the subset's centre column; 0 when the
+ * coordinates cannot be read there. */
+static int cf_centre_coords(const sl_nc *f, const cf_layout *L, const sl_subset *s, double *x, double *y)
+{
+  const size_t ix = s->i0 + (s->nx / 2) * s->stride, iy = s->j0 + (s->ny / 2) * s->stride;
+  int xid, yid;
+  return nc_inq_varid(f->id, L->coord[3], &xid) == NC_NOERR && sl_nc_var_is_1d(f, xid, ix + 1, NULL) &&
+         nc_get_var1_double(f->id, xid, &ix, x) == NC_NOERR && nc_inq_varid(f->id, L->coord[2], &yid) == NC_NOERR &&
+         sl_nc_var_is_1d(f, yid, iy + 1, NULL) && nc_get_var1_double(f->id, yid, &iy, y) == NC_NOERR;
+}
+
 static void cf_projected_centre(const sl_nc *f, const cf_layout *L, const sl_storm_info *info, const sl_subset *s,
                                 sl_storm_frame *frame)
 {
-  int varid, gid, xid, yid;
+  int varid, gid;
   char gm[NC_MAX_NAME + 1] = "";
+  if (info->map_proj != 1 && info->map_proj != 2 && info->map_proj != 3) return;
   if (nc_inq_varid(f->id, L->ref, &varid) != NC_NOERR || !sl_nc_attr_text(f, varid, "grid_mapping", gm, sizeof gm) ||
       nc_inq_varid(f->id, gm, &gid) != NC_NOERR)
     return;
-  const int mercator = info->map_proj == 3;
-  if (info->map_proj != 1 && info->map_proj != 2 && !mercator) return;
-  const double lon0 = sl_nc_attr_double(
-      f, gid, "longitude_of_central_meridian",
-      sl_nc_attr_double(f, gid, "straight_vertical_longitude_from_pole",
-                        sl_nc_attr_double(f, gid, "longitude_of_projection_origin", NAN)));
-  const double lat0 = sl_nc_attr_double(f, gid, "latitude_of_projection_origin", mercator ? 0.0 : NAN);
+  const double lat0 = sl_nc_attr_double(f, gid, "latitude_of_projection_origin", info->map_proj == 3 ? 0.0 : NAN);
   const double fe = sl_nc_attr_double(f, gid, "false_easting", 0.0), fn = sl_nc_attr_double(f, gid, "false_northing", 0.0);
-  /* Mercator's true latitude may be given as its scale at the equator instead (k0 = cos phi_ts). */
-  double truelat1 = info->truelat1, truelat2 = info->truelat2;
-  if (mercator && !isfinite(truelat1)) {
-    const double k0 = sl_nc_attr_double(f, gid, "scale_factor_at_projection_origin", 1.0);
-    truelat1 = truelat2 = k0 > 0.0 && k0 <= 1.0 ? acos(k0) * 180.0 / M_PI : NAN;
-  }
   sl_projection p;
   char why[200];
-  if (!isfinite(lat0) || !isfinite(lon0) ||
-      sl_projection_init(&p, info->map_proj, truelat1, truelat2, lon0, 90.0, 0.0, why, sizeof why))
-    return;
-  const size_t ix = s->i0 + (s->nx / 2) * s->stride, iy = s->j0 + (s->ny / 2) * s->stride;
   double x, y, x0, y0, lat, lon;
-  if (nc_inq_varid(f->id, L->coord[3], &xid) != NC_NOERR || !sl_nc_var_is_1d(f, xid, ix + 1, NULL) ||
-      nc_get_var1_double(f->id, xid, &ix, &x) != NC_NOERR || nc_inq_varid(f->id, L->coord[2], &yid) != NC_NOERR ||
-      !sl_nc_var_is_1d(f, yid, iy + 1, NULL) || nc_get_var1_double(f->id, yid, &iy, &y) != NC_NOERR)
+  if (!isfinite(lat0) || !isfinite(info->stand_lon) ||
+      sl_projection_init(&p, info->map_proj, info->truelat1, info->truelat2, info->stand_lon, 90.0, 0.0, why,
+                         sizeof why) ||
+      !cf_centre_coords(f, L, s, &x, &y))
     return;
-  sl_projection_forward(&p, lat0, lon0, &x0, &y0);
+  sl_projection_forward(&p, lat0, info->stand_lon, &x0, &y0);
   sl_projection_reverse(&p, x0 + (x - fe) * L->x_to_m, y0 + (y - fn) * L->y_to_m, &lat, &lon);
   if (fabs(lat) <= 90.0 && isfinite(lon)) frame->center_lat = lat, frame->center_lon = lon - 360.0 * floor((lon + 180.0) / 360.0);
 }
@@ -377,7 +381,7 @@ static int cf_apply_units(const sl_nc *f, sl_nc_var *v, cf_quantity q, sl_error 
     double scale, offset;
   } known[] = {
       {CF_MASS_FRACTION, "kgkg-1", 1, 0},   {CF_MASS_FRACTION, "kg/kg", 1, 0},  {CF_MASS_FRACTION, "1", 1, 0},
-      {CF_MASS_FRACTION, "kgkg**-1", 1, 0}, {CF_MASS_FRACTION, "gkg-1", 1e-3, 0}, {CF_MASS_FRACTION, "g/kg", 1e-3, 0},
+      {CF_MASS_FRACTION, "gkg-1", 1e-3, 0}, {CF_MASS_FRACTION, "g/kg", 1e-3, 0},
       {CF_MASS_FRACTION, "g/g", 1, 0},      {CF_MASS_FRACTION, "gg-1", 1, 0},     {CF_PRESSURE, "Pa", 1, 0},
       {CF_PRESSURE, "hPa", 100, 0},         {CF_PRESSURE, "mbar", 100, 0},        {CF_PRESSURE, "millibar", 100, 0},
       {CF_PRESSURE, "mb", 100, 0},          {CF_PRESSURE, "kPa", 1000, 0},        {CF_TEMPERATURE, "K", 1, 0},
@@ -596,15 +600,8 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
    * their grid_mapping. */
   frame->center_lat = frame->center_lon = NAN;
   if (L.x_to_m != 0.0 && !L.cm1) cf_projected_centre(f, &L, info, &s, frame);
-  if (L.x_to_m == 0.0) {
-    double x, y;
-    size_t ix = s.i0 + (s.nx / 2) * s.stride, iy = s.j0 + (s.ny / 2) * s.stride;
-    int xid, yid;
-    if (nc_inq_varid(f->id, L.coord[3], &xid) == NC_NOERR && sl_nc_var_is_1d(f, xid, ix + 1, NULL) &&
-        nc_get_var1_double(f->id, xid, &ix, &x) == NC_NOERR && nc_inq_varid(f->id, L.coord[2], &yid) == NC_NOERR &&
-        sl_nc_var_is_1d(f, yid, iy + 1, NULL) && nc_get_var1_double(f->id, yid, &iy, &y) == NC_NOERR)
-      frame->center_lat = y, frame->center_lon = x;
-  }
+  double x, y;
+  if (L.x_to_m == 0.0 && cf_centre_coords(f, &L, &s, &x, &y)) frame->center_lat = y, frame->center_lon = x;
   frame->terrain_min = frame->terrain_max = ground;
   frame->model_top = top;
   frame->time_index = c.t;
