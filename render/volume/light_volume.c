@@ -262,24 +262,26 @@ static inline __attribute__((always_inline)) void light_volume_fetch(const sl_re
   }
 }
 
-/* Distance along d from x to where the ray leaves x's 8^3 brick when that brick is empty (no
- * trilinear footprint in it holds extinction, so every sample inside it is exactly zero);
- * -1 when the brick holds something. The march jumps the brick instead of stepping through it. */
+/* Distance along d from x to where the ray leaves the cube of empty bricks around x's 8^3 brick
+ * (every brick less than its empty radius from it: no trilinear footprint in them holds
+ * extinction, so every sample inside is exactly zero); -1 when x's brick holds something. The
+ * march jumps the cube instead of stepping through it. */
 static double empty_brick_exit(const sl_renderer *r, const double x[3], const double d[3])
 {
   const sl_grid_view *g = &r->beta_view;
   int b[3];
   double f[3];
   sl__lattice_cell(g, x, b, f);
-  if (sl__brick_occupied(r, b)) return -1.0;
-  for (int a = 0; a < 3; ++a) b[a] /= 8;
+  const int radius = sl__brick_radius(r, b);
+  if (!radius) return -1.0;
   double best = INFINITY;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) continue;
-    /* The brick's cells are [8 b, 8 b + 8) in lattice units; the first and last bricks reach
-     * the box's faces (the clamped points). */
-    const double upper = b[a] == sl__last_brick(g, a) ? g->hi[a] : g->origin[a] + 8.0 * (b[a] + 1) / g->inv_spacing[a];
-    const double lower = b[a] == 0 ? g->lo[a] : g->origin[a] + 8.0 * b[a] / g->inv_spacing[a];
+    /* The cube's cells are [8 lo, 8 hi + 8) in lattice units; where it holds the first or the
+     * last brick it reaches the box's face (the clamped points). */
+    const int lo = b[a] / 8 - (radius - 1), hi = b[a] / 8 + (radius - 1);
+    const double upper = hi >= sl__last_brick(g, a) ? g->hi[a] : g->origin[a] + 8.0 * (hi + 1) / g->inv_spacing[a];
+    const double lower = lo <= 0 ? g->lo[a] : g->origin[a] + 8.0 * lo / g->inv_spacing[a];
     const double face = d[a] > 0.0 ? upper : lower;
     const double t = (face - x[a]) / d[a];
     if (t < best) best = t;

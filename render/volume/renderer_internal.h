@@ -27,8 +27,11 @@ struct sl_renderer {
   int has_subsets;
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* spectral radiance -> linear sRGB (CIE); identity for RGB */
   int spectral;
-  unsigned char *occupied;  /* per 8^3 brick: any non-zero extinction within it or one sample
-                               around it (the trilinear footprint); empty bricks are skipped */
+  unsigned char *empty_radius; /* per 8^3 brick: 0 where it is occupied (non-zero extinction within
+                                 it or one sample around it, the trilinear footprint), else its
+                                 Chebyshev distance in bricks to the nearest occupied one (at most
+                                 255): every brick less than that from it is empty, so a ray can
+                                 jump the whole cube (sl__brick_empty_radius) */
   int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;
@@ -122,10 +125,24 @@ static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid
   }
 }
 
-static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3])
+/* The empty radius of the brick holding lattice cell i0 (0: occupied). */
+static inline int sl__brick_radius(const sl_renderer *r, const int i0[3])
 {
-  return r->occupied[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
+  return r->empty_radius[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
 }
+
+static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { return sl__brick_radius(r, i0) == 0; }
+
+/* Chebyshev distance transform of a brick lattice, in place: on entry radius[b] is 0 for an
+ * occupied brick and non-zero for an empty one; on return each empty brick holds its distance to
+ * the nearest occupied brick, max over the axes of |b - o|, capped at 255 (255 also where no brick
+ * is occupied). Index (z * n[1] + y) * n[0] + x. */
+void sl__brick_empty_radius(const int n[3], unsigned char *radius);
+
+/* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied
+ * bricks; *first > *last when it crosses none (renderer.c). */
+void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
+                       double *first, double *last);
 
 /* The last 8^3 brick along axis a that a point can fall in: cells stop at n - 2 (the clamp of
  * sl__lattice_cell), so that brick also holds the points up to the box's face. */
