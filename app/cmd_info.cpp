@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -154,6 +155,7 @@ int sl_cmd_info(int argc, char **argv)
     cJSON *times = cJSON_AddArrayToObject(root, "times");
     for (int i = 0; i < info->ntimes; ++i)
       cJSON_AddItemToArray(times, info->has_times ? cJSON_CreateString(info->times[i]) : cJSON_CreateNumber(i));
+    cJSON_AddStringToObject(root, "calendar", info->calendar);
     cJSON_AddNumberToObject(root, "time_index", (double)t);
     cJSON *fields = cJSON_AddObjectToObject(root, "fields");
     for (int p = 0; p < frame.nspecies; ++p) {
@@ -192,7 +194,9 @@ int sl_cmd_info(int argc, char **argv)
                 g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
                 g.from_xlat ? "XLAT/XLONG" : "the projection");
     if (g.note[0]) std::printf("note        %s\n", g.note);
-    std::printf("times       %d:", info->ntimes);
+    std::printf("times       %d", info->ntimes);
+    if (std::strcmp(info->calendar, "standard") != 0) std::printf(" (calendar %s)", info->calendar);
+    std::printf(":");
     for (int i = 0; i < info->ntimes && i < 8; ++i) std::printf(" %s", info->has_times ? info->times[i] : "(index only)");
     std::printf("%s\n", info->ntimes > 8 ? " ..." : "");
     std::printf("fields at time %ld (kg/kg):\n", t);

@@ -601,7 +601,7 @@ int sl_cmd_view(int argc, char **argv)
     std::string why, when;
     if (!grid_centre(s, &why)) return sl::fail("view", why);
     for (int i = 0; info->has_times && i < s.ntimes; ++i) {
-      std::string t = info->times[i];
+      std::string t = info->sun_times[i];
       for (char &ch : t)
         if (ch == '_') ch = 'T';
       s.times.push_back(t + "Z");

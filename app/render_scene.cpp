@@ -84,10 +84,14 @@ bool frame_solar_position(const std::string &file, long time_index, const sl_sto
     sl_error err{};
     if (sl_storm_read_info(file.c_str(), info.get(), &err) != SL_OK || !info->has_times) {
       *no_times = true;
-      *why = file + ": the file has no times: give a date or the sun's azimuth and elevation";
+      const std::string cal = info->calendar;
+      *why = file + (cal.empty() || cal == "standard"
+                         ? ": the file has no times"
+                         : ": the file has no times in a calendar this reader knows (calendar '" + cal + "')") +
+             ": give a date or the sun's azimuth and elevation";
       return false;
     }
-    std::string t = info->times[time_index], reason;
+    std::string t = info->sun_times[time_index], reason;
     for (char &ch : t)
       if (ch == '_') ch = 'T';
     if (!sl_parse_iso8601_utc(t + "Z", &when, &reason)) {

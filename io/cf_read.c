@@ -281,38 +281,45 @@ static void cf_projected_centre(const sl_nc *f, const cf_layout *L, const sl_sto
   if (fabs(lat) <= 90.0 && isfinite(lon)) frame->center_lat = lat, frame->center_lon = lon - 360.0 * floor((lon + 180.0) / 360.0);
 }
 
-/* Times from a CF time coordinate "<unit> since <date>"; CM1's bare "seconds" stays index-only. */
+/* Times from a CF time coordinate "<unit> since <date>" in its calendar (CF 4.4.1; climate
+ * models count in noleap or 360_day years, and read as Gregorian their dates drift by weeks);
+ * CM1's bare "seconds" stays index-only, and so does a calendar this reader does not know (the
+ * render then asks for a date). */
 static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
   int id;
-  char units[128] = "";
+  char units[128] = "", calendar[64] = "";
   if (!L->dim[0][0] || nc_inq_varid(f->id, L->dim[0], &id) != NC_NOERR ||
       !sl_nc_var_is_1d(f, id, (size_t)info->ntimes, NULL))
     return;
   sl_nc_attr_text(f, id, "units", units, sizeof units);
+  sl_nc_attr_text(f, id, "calendar", calendar, sizeof calendar);
+  snprintf(info->calendar, sizeof info->calendar, "%s", calendar[0] ? calendar : "standard");
+  const sl_calendar cal = sl_calendar_named(calendar);
   const char *since = strstr(units, " since ");
   double per = 0;
   if (strncmp(units, "second", 6) == 0) per = 1;
   else if (strncmp(units, "minute", 6) == 0) per = 60;
   else if (strncmp(units, "hour", 4) == 0) per = 3600;
   else if (strncmp(units, "day", 3) == 0) per = 86400;
-  struct tm tm = {0};
-  if (!since || per == 0 ||
-      sscanf(since + 7, "%d-%d-%d%*[ _T]%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
-             &tm.tm_sec) < 3)
+  int base[6] = {0};
+  if (!since || per == 0 || cal == SL_CAL_UNKNOWN ||
+      sscanf(since + 7, "%d-%d-%d%*[ _T]%d:%d:%d", &base[0], &base[1], &base[2], &base[3], &base[4], &base[5]) < 3 ||
+      !sl_calendar_valid(cal, base))
     return;
-  if (!sl_plausible_date(&tm)) return;
-  tm.tm_year -= 1900, tm.tm_mon -= 1;
-  const time_t base = timegm(&tm);
   double *v = malloc((size_t)info->ntimes * sizeof(double));
   size_t start = 0, count = (size_t)info->ntimes;
   if (v && nc_get_vara_double(f->id, id, &start, &count, v) == NC_NOERR) {
     int ok = 1;
     for (int t = 0; t < info->ntimes && ok; ++t) {
-      time_t at;
-      struct tm u;
-      ok = sl_time_add_seconds(base, v[t] * per, &at) && gmtime_r(&at, &u);
-      if (ok) strftime(info->times[t], sizeof info->times[t], "%Y-%m-%d_%H:%M:%S", &u);
+      int at[6], sun[6];
+      ok = sl_calendar_add_seconds(cal, base, v[t] * per, at);
+      if (!ok) break;
+      sl_calendar_sun_date(cal, at, sun);
+      snprintf(info->times[t], sizeof info->times[t], "%04d-%02d-%02d_%02d:%02d:%02d", at[0], at[1], at[2], at[3], at[4],
+               at[5]);
+      snprintf(info->sun_times[t], sizeof info->sun_times[t], "%04d-%02d-%02d_%02d:%02d:%02d", sun[0], sun[1], sun[2],
+               sun[3], sun[4], sun[5]);
     }
     info->has_times = ok; /* absurd offsets: index-only times, as without a time coordinate */
   }

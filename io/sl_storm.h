@@ -53,8 +53,13 @@ typedef struct sl_storm_info {
   char scheme[96];            /* microphysics scheme in words */
   int nspecies;               /* hydrometeor variables found and how they map (before --field) */
   sl_species species[SL_MAX_SPECIES];
-  char times[SL_MAX_TIMES][24]; /* "YYYY-MM-DD_hh:mm:ss", empty when the file has none */
+  char times[SL_MAX_TIMES][24]; /* "YYYY-MM-DD_hh:mm:ss" in the file's calendar, empty when the file has none */
   int has_times;
+  char calendar[24];          /* the time coordinate's CF calendar, "standard" when it names none (WRF) */
+  /* The same instants as Gregorian dates where the sun stands as it does then (the sun's position
+   * takes these): equal to times in the standard and proleptic Gregorian calendars, the same day
+   * in the Julian one, the same fraction of the year in noleap, all_leap and 360_day. */
+  char sun_times[SL_MAX_TIMES][24];
 } sl_storm_info;
 
 /* One time of a storm file resampled to a uniform grid. */

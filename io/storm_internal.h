@@ -42,6 +42,30 @@ int sl_nc_var_is_1d(const sl_nc *f, int varid, size_t min_len, size_t *len);
 /* 1 when a parsed calendar date (tm_year as the full year, tm_mon 1..12) is one a model can
  * have written: years 1..9999, fields in their ranges (before any arithmetic on them). */
 int sl_plausible_date(const struct tm *tm);
+
+/* The calendars of CF section 4.4.1 (calendar.c): "standard" (alias "gregorian": Julian before
+ * 1582-10-15), "proleptic_gregorian", "julian", "noleap" (alias "365_day"), "all_leap" ("366_day")
+ * and "360_day". Dates are int[6]: year, month, day, hour, minute, second. */
+typedef enum sl_calendar {
+  SL_CAL_STANDARD,
+  SL_CAL_PROLEPTIC_GREGORIAN,
+  SL_CAL_JULIAN,
+  SL_CAL_NOLEAP,
+  SL_CAL_ALL_LEAP,
+  SL_CAL_360_DAY,
+  SL_CAL_UNKNOWN
+} sl_calendar;
+/* The calendar a `calendar` attribute names ("" is the standard one); SL_CAL_UNKNOWN otherwise. */
+sl_calendar sl_calendar_named(const char *name);
+/* 1 when date exists in the calendar (years 1..9999). */
+int sl_calendar_valid(sl_calendar cal, const int date[6]);
+/* The date `seconds` after base in the calendar; 0 when base is not a date of it or the result
+ * leaves years 1..9999 (an absurd offset). */
+int sl_calendar_add_seconds(sl_calendar cal, const int base[6], double seconds, int out[6]);
+/* The Gregorian date at which the sun stands as at `date` in the calendar: the same day for the
+ * Gregorian and Julian calendars; for the model calendars (noleap, all_leap, 360_day) the same
+ * clock time on the day at the same fraction of the year. */
+void sl_calendar_sun_date(sl_calendar cal, const int date[6], int out[6]);
 int sl_time_add_seconds(time_t base, double seconds, time_t *out);
 /* Opens `name` and checks that its trailing `ndims` dimensions have the given lengths (names too
  * when dim_names is not NULL); a leading time dimension is optional (static fields). */

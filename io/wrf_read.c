@@ -179,10 +179,15 @@ static int read_info_nc(const sl_nc *f, sl_storm_info *info, sl_error *err)
   snprintf(info->path, sizeof info->path, "%s", f->path);
   nc_inq_format(f->id, &info->format);
   info->mp_physics = -1;
-  int dimid;
+  int dimid, rc;
   if (nc_inq_dimid(f->id, "west_east", &dimid) == NC_NOERR || nc_inq_dimid(f->id, "bottom_top", &dimid) == NC_NOERR)
-    return wrf_read_info(f, info, err);
-  return sl_cf_read_info(f, info, err);
+    rc = wrf_read_info(f, info, err);
+  else
+    rc = sl_cf_read_info(f, info, err);
+  if (!info->calendar[0]) snprintf(info->calendar, sizeof info->calendar, "standard");
+  for (int t = 0; info->has_times && t < info->ntimes && t < SL_MAX_TIMES; ++t)
+    if (!info->sun_times[t][0]) memcpy(info->sun_times[t], info->times[t], sizeof info->times[t]);
+  return rc;
 }
 
 int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err)

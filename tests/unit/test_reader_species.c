@@ -30,6 +30,48 @@ static const char *make(const char *name, const char *cdl)
   return out;
 }
 
+/* A CF time coordinate counts in its calendar: 400 and 401.5 days since 2000-01-01 are
+ * 2001-02-05 and 2001-02-06 12:00 in a noleap calendar (2000-01-01 + 400 Gregorian days would be
+ * 2001-02-04), 2001-02-11 and 2001-02-12 12:00 in a 360_day one; the sun takes the 360_day dates
+ * at the same fraction of the year (day 40 of 360 is day 40.6 of 365: Feb 10). A calendar the
+ * reader does not know leaves the times index-only and is named. */
+static void test_calendars(void)
+{
+  const char *cdl =
+      "netcdf cal {\n dimensions: time = 2 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " double time(time) ; time:units = \"days since 2000-01-01 00:00:00\" ; time:calendar = \"%s\" ;\n"
+      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+      " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
+      " time = 400, 401.5 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+      " ta = 291, 291, 291, 291, 291, 291, 291, 291 ; pa = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n}\n";
+  const struct {
+    const char *calendar, *t0, *t1, *sun0;
+  } cases[] = {{"noleap", "2001-02-05_00:00:00", "2001-02-06_12:00:00", "2001-02-05_00:00:00"},
+               {"360_day", "2001-02-11_00:00:00", "2001-02-12_12:00:00", "2001-02-10_00:00:00"},
+               {"proleptic_gregorian", "2001-02-04_00:00:00", "2001-02-05_12:00:00", "2001-02-04_00:00:00"},
+               {"mars_sol", "", "", ""}};
+  static sl_storm_info info;
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    char text[2048], name[32];
+    snprintf(text, sizeof text, cdl, cases[c].calendar);
+    snprintf(name, sizeof name, "cal%zu", c);
+    sl_error err = {0};
+    if (!CHECK_MSG(sl_storm_read_info(make(name, text), &info, &err) == SL_OK, err.message)) continue;
+    char what[300];
+    snprintf(what, sizeof what, "calendar %s: times %s %s (sun %s), calendar '%s'; want %s %s (sun %s)", cases[c].calendar,
+             info.has_times ? info.times[0] : "-", info.has_times ? info.times[1] : "-",
+             info.has_times ? info.sun_times[0] : "-", info.calendar, cases[c].t0[0] ? cases[c].t0 : "index-only",
+             cases[c].t1, cases[c].sun0);
+    const int want_times = cases[c].t0[0] != 0;
+    CHECK_MSG(info.has_times == want_times && strcmp(info.calendar, cases[c].calendar) == 0 &&
+                  (!want_times || (strcmp(info.times[0], cases[c].t0) == 0 && strcmp(info.times[1], cases[c].t1) == 0 &&
+                                   strcmp(info.sun_times[0], cases[c].sun0) == 0)),
+              what);
+  }
+}
+
 /* One model layer from 0 to 1000 m over 2x2 columns at two times: p = 85000 Pa, theta = 300 K +
  * theta_pert, qv = 0.01; `decl` and `data` add the hydrometeors (8 values each). */
 static const char *wrf(const char *name, int mp, double theta_pert, const char *times, const char *decl,
@@ -417,6 +459,7 @@ int main(void)
   test_density_and_single_moment();
   test_split_and_double_moment();
   test_cm1_and_cf();
+  test_calendars();
   const char *shared = getenv("SL_SHARED_DIR");
   char katrina[4096];
   snprintf(katrina, sizeof katrina, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
