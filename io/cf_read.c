@@ -26,6 +26,8 @@ typedef struct cf_layout {
   size_t len[4];
   double x_to_m, y_to_m, z_to_m;
   double dx, dy;
+  int flip[4];                  /* per slot: the coordinate decreases (north-to-south latitudes,
+                                   levels from the top), so the reader reverses that axis */
   double lat0;                  /* degrees, for latitude-longitude grids */
 } cf_layout;
 
@@ -57,7 +59,7 @@ static int is_degrees(const char *units) { return strncmp(units, "degree", 6) ==
 
 /* Horizontal spacing (m) of coordinate `dim`, uniform within 1 %. */
 static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int cm1, double *scale, double *spacing,
-                        double *lat_mid, sl_error *err)
+                        double *lat_mid, int *flip, sl_error *err)
 {
   double *v = malloc(n * sizeof(double));
   char units[64] = "", stdname[128] = "";
@@ -69,13 +71,22 @@ static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int
   }
   if (cm1 && !units[0]) snprintf(units, sizeof units, "km");
   *scale = length_scale(units);
-  const double step = n > 1 ? (v[n - 1] - v[0]) / (double)(n - 1) : 0.0;
+  if (n < 2) {
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' has %zu point: a grid needs at least 2 along x and y", f->path,
+                 dim, n);
+    goto done;
+  }
+  /* A decreasing axis (latitudes from north to south, as ERA5 and GFS write them) is read
+   * reversed: the spacing is the step's size. */
+  double step = (v[n - 1] - v[0]) / (double)(n - 1);
   for (size_t i = 1; i < n && !rc; ++i)
     if (fabs((v[i] - v[i - 1]) - step) > 0.01 * fabs(step))
       rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' is not evenly spaced", f->path, dim);
-  if (!rc && !(step > 0.0))
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' must increase", f->path, dim);
+  if (!rc && !(fabs(step) > 0.0))
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: coordinate '%s' does not change (all %zu values equal)", f->path, dim, n);
   if (rc) goto done;
+  *flip = step < 0.0;
+  step = fabs(step);
   if (*scale > 0.0) {
     *spacing = step * *scale;
   } else if (is_degrees(units)) {
@@ -180,8 +191,8 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
       return sl_fail(err, SL_ERR_DATA, "%s: dimension '%s' has %s length %zu", f->path, L->dim[d],
                      L->len[d] == 0 ? "zero" : "an absurd", L->len[d]);
   int rc;
-  if ((rc = axis_spacing(f, L->coord[3], L->len[3], 1, L->cm1, &L->x_to_m, &L->dx, &L->lat0, err)) ||
-      (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, err)))
+  if ((rc = axis_spacing(f, L->coord[3], L->len[3], 1, L->cm1, &L->x_to_m, &L->dx, &L->lat0, &L->flip[3], err)) ||
+      (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, &L->flip[2], err)))
     return rc;
   if (L->x_to_m == 0.0) L->dx *= cos(L->lat0 * M_PI / 180.0);
   /* Vertical: a height (m or km, up); pressure or other vertical coordinates are not read. */
@@ -191,10 +202,23 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
   int zid;
   if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
   L->z_to_m = length_scale(zunits);
-  if (!(L->z_to_m > 0.0) || strcmp(positive, "down") == 0)
+  if (strcasecmp(positive, "down") == 0)
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: vertical coordinate '%s' has positive = \"down\" (a depth): only heights, positive up, are read",
+                   f->path, L->coord[1]);
+  if (!(L->z_to_m > 0.0))
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' (units '%s') is not a height in m or km: only height levels are read",
                    f->path, L->coord[1], zunits);
+  /* Levels listed from the top down are read reversed. */
+  if (L->len[1] > 1) {
+    double ends[2];
+    size_t first = 0, last = L->len[1] - 1;
+    if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR && sl_nc_var_is_1d(f, zid, L->len[1], NULL) &&
+        nc_get_var1_double(f->id, zid, &first, &ends[0]) == NC_NOERR &&
+        nc_get_var1_double(f->id, zid, &last, &ends[1]) == NC_NOERR)
+      L->flip[1] = ends[1] < ends[0];
+  }
   return SL_OK;
 }
 
@@ -250,7 +274,9 @@ static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info
  * coordinates cannot be read there. */
 static int cf_centre_coords(const sl_nc *f, const cf_layout *L, const sl_subset *s, double *x, double *y)
 {
-  const size_t ix = s->i0 + (s->nx / 2) * s->stride, iy = s->j0 + (s->ny / 2) * s->stride;
+  /* Column nx / 2 of the grid as read, counted from the far end of a reversed axis. */
+  const size_t ix = s->i0 + (size_t)(L->flip[3] ? s->nx - 1 - s->nx / 2 : s->nx / 2) * s->stride;
+  const size_t iy = s->j0 + (size_t)(L->flip[2] ? s->ny - 1 - s->ny / 2 : s->ny / 2) * s->stride;
   int xid, yid;
   return nc_inq_varid(f->id, L->coord[3], &xid) == NC_NOERR && sl_nc_var_is_1d(f, xid, ix + 1, NULL) &&
          nc_get_var1_double(f->id, xid, &ix, x) == NC_NOERR && nc_inq_varid(f->id, L->coord[2], &yid) == NC_NOERR &&
@@ -421,9 +447,33 @@ static int cf_var(cf_levels *c, const char *name, cf_quantity q, sl_nc_var *v, s
   return rc ? rc : cf_apply_units(c->f, v, q, err);
 }
 
+/* The subset's levels of a 3-D variable, each axis whose coordinate decreases reversed so that
+ * x, y and z increase with the index as the remap expects (a reversed z reads the file's levels
+ * that the subset's levels, counted from the bottom, are). */
 static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
 {
-  return sl_nc_read_block(c->f, v, c->t, c->s->k0, c->s->nz, c->s, out, err);
+  const sl_subset *s = c->s;
+  const int *flip = c->L->flip;
+  const int k0 = flip[1] ? (int)c->L->len[1] - s->k0 - s->nz : s->k0;
+  const int rc = sl_nc_read_block(c->f, v, c->t, k0, s->nz, s, out, err);
+  if (rc) return rc;
+  const size_t nx = (size_t)s->nx, ny = (size_t)s->ny, nz = (size_t)s->nz, plane = nx * ny;
+  float t;
+  for (size_t k = 0; flip[3] && k < nz; ++k)
+    for (size_t j = 0; j < ny; ++j) {
+      float *row = out + k * plane + j * nx;
+      for (size_t i = 0; i < nx / 2; ++i) t = row[i], row[i] = row[nx - 1 - i], row[nx - 1 - i] = t;
+    }
+  for (size_t k = 0; flip[2] && k < nz; ++k)
+    for (size_t j = 0; j < ny / 2; ++j) {
+      float *a = out + k * plane + j * nx, *b = out + k * plane + (ny - 1 - j) * nx;
+      for (size_t i = 0; i < nx; ++i) t = a[i], a[i] = b[i], b[i] = t;
+    }
+  for (size_t k = 0; flip[1] && k < nz / 2; ++k) {
+    float *a = out + k * plane, *b = out + (nz - 1 - k) * plane;
+    for (size_t i = 0; i < plane; ++i) t = a[i], a[i] = b[i], b[i] = t;
+  }
+  return SL_OK;
 }
 
 static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
@@ -520,10 +570,14 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
     free(zh);
     return sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the heights", f->path, L->coord[1]);
   }
+  for (size_t k = 0; L->flip[1] && k < n / 2; ++k) {
+    const double t = zh[k];
+    zh[k] = zh[n - 1 - k], zh[n - 1 - k] = t;
+  }
   int zf;
   size_t zn = 0;
   int nd = 0, dimid;
-  if (L->cm1 && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
+  if (L->cm1 && !L->flip[1] && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
       nc_inq_vardimid(f->id, zf, &dimid) == NC_NOERR && nc_inq_dimlen(f->id, dimid, &zn) == NC_NOERR && zn == n + 1) {
     size_t start = 0;
     if (nc_get_vara_double(f->id, zf, &start, &zn, zi) != NC_NOERR) {

@@ -30,48 +30,6 @@ static const char *make(const char *name, const char *cdl)
   return out;
 }
 
-/* A CF time coordinate counts in its calendar: 400 and 401.5 days since 2000-01-01 are
- * 2001-02-05 and 2001-02-06 12:00 in a noleap calendar (2000-01-01 + 400 Gregorian days would be
- * 2001-02-04), 2001-02-11 and 2001-02-12 12:00 in a 360_day one; the sun takes the 360_day dates
- * at the same fraction of the year (day 40 of 360 is day 40.6 of 365: Feb 10). A calendar the
- * reader does not know leaves the times index-only and is named. */
-static void test_calendars(void)
-{
-  const char *cdl =
-      "netcdf cal {\n dimensions: time = 2 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
-      " double time(time) ; time:units = \"days since 2000-01-01 00:00:00\" ; time:calendar = \"%s\" ;\n"
-      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
-      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
-      " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
-      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
-      " time = 400, 401.5 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
-      " ta = 291, 291, 291, 291, 291, 291, 291, 291 ; pa = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n}\n";
-  const struct {
-    const char *calendar, *t0, *t1, *sun0;
-  } cases[] = {{"noleap", "2001-02-05_00:00:00", "2001-02-06_12:00:00", "2001-02-05_00:00:00"},
-               {"360_day", "2001-02-11_00:00:00", "2001-02-12_12:00:00", "2001-02-10_00:00:00"},
-               {"proleptic_gregorian", "2001-02-04_00:00:00", "2001-02-05_12:00:00", "2001-02-04_00:00:00"},
-               {"mars_sol", "", "", ""}};
-  static sl_storm_info info;
-  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-    char text[2048], name[32];
-    snprintf(text, sizeof text, cdl, cases[c].calendar);
-    snprintf(name, sizeof name, "cal%zu", c);
-    sl_error err = {0};
-    if (!CHECK_MSG(sl_storm_read_info(make(name, text), &info, &err) == SL_OK, err.message)) continue;
-    char what[300];
-    snprintf(what, sizeof what, "calendar %s: times %s %s (sun %s), calendar '%s'; want %s %s (sun %s)", cases[c].calendar,
-             info.has_times ? info.times[0] : "-", info.has_times ? info.times[1] : "-",
-             info.has_times ? info.sun_times[0] : "-", info.calendar, cases[c].t0[0] ? cases[c].t0 : "index-only",
-             cases[c].t1, cases[c].sun0);
-    const int want_times = cases[c].t0[0] != 0;
-    CHECK_MSG(info.has_times == want_times && strcmp(info.calendar, cases[c].calendar) == 0 &&
-                  (!want_times || (strcmp(info.times[0], cases[c].t0) == 0 && strcmp(info.times[1], cases[c].t1) == 0 &&
-                                   strcmp(info.sun_times[0], cases[c].sun0) == 0)),
-              what);
-  }
-}
-
 /* One model layer from 0 to 1000 m over 2x2 columns at two times: p = 85000 Pa, theta = 300 K +
  * theta_pert, qv = 0.01; `decl` and `data` add the hydrometeors (8 values each). */
 static const char *wrf(const char *name, int mp, double theta_pert, const char *times, const char *decl,
@@ -453,6 +411,123 @@ static void test_series(void)
   CHECK(sl_series_open(glob_list, 1, &s, &err) == SL_ERR_IO);
 }
 
+/* The same air written with decreasing coordinates loads to the same frame: latitudes from north
+ * to south (ERA5, GFS), longitudes from east to west, levels from the top down, each reversed on
+ * read. A 5 x 4 x 3 lat-lon grid whose cloud, temperature and pressure differ in every cell, so a
+ * reversal forgotten or applied twice moves values; compared bit for bit with the increasing
+ * file, and the centre too. Also an odd layout's message: a one-column grid. */
+static void cf_grid_cdl(char *out, size_t cap, const char *name, int flip_x, int flip_y, int flip_z, int nx)
+{
+  enum { NY = 4, NZ = 3 };
+  size_t n = 0;
+  n += snprintf(out + n, cap - n,
+                "netcdf %s {\n dimensions: time = 1 ; z = %d ; y = %d ; x = %d ;\n variables:\n"
+                " double time(time) ; time:units = \"hours since 2024-06-15 00:00:00\" ;\n"
+                " float z(z) ; z:units = \"m\" ; z:positive = \"up\" ; float y(y) ; y:units = \"degrees_north\" ;"
+                " float x(x) ; x:units = \"degrees_east\" ;\n"
+                " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+                " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+                " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n time = 0 ;\n z =",
+                name, NZ, NY, nx);
+  for (int k = 0; k < NZ; ++k) n += snprintf(out + n, cap - n, "%s %d", k ? "," : "", 250 + 500 * (flip_z ? NZ - 1 - k : k));
+  n += snprintf(out + n, cap - n, " ;\n y =");
+  for (int j = 0; j < NY; ++j) n += snprintf(out + n, cap - n, "%s %g", j ? "," : "", 35.0 + 0.02 * (flip_y ? NY - 1 - j : j));
+  n += snprintf(out + n, cap - n, " ;\n x =");
+  for (int i = 0; i < nx; ++i) n += snprintf(out + n, cap - n, "%s %g", i ? "," : "", -97.0 + 0.02 * (flip_x ? nx - 1 - i : i));
+  for (int v = 0; v < 3; ++v) {
+    n += snprintf(out + n, cap - n, " ;\n %s =", v == 0 ? "cl" : v == 1 ? "ta" : "pa");
+    for (int k = 0; k < NZ; ++k)
+      for (int j = 0; j < NY; ++j)
+        for (int i = 0; i < nx; ++i) {
+          /* The value of the physical cell this file position holds. */
+          const int pi = flip_x ? nx - 1 - i : i, pj = flip_y ? NY - 1 - j : j, pk = flip_z ? NZ - 1 - k : k;
+          const double value = v == 0 ? 1e-4 * (1 + pi + 10 * pj + 100 * pk)
+                               : v == 1 ? 290.0 - 3.0 * pk + 0.1 * pi - 0.05 * pj
+                                        : 90000.0 - 5000.0 * pk + 10.0 * pi + 3.0 * pj;
+          n += snprintf(out + n, cap - n, "%s %.9g", k + j + i ? "," : "", value);
+        }
+  }
+  snprintf(out + n, cap - n, " ;\n}\n");
+}
+
+static void test_decreasing_coordinates(void)
+{
+  static char text[16384];
+  static sl_storm_frame ref, got;
+  cf_grid_cdl(text, sizeof text, "inc", 0, 0, 0, 5);
+  if (!CHECK(load(make("inc", text), NULL, &ref) == SL_OK)) return;
+  const int flips[][3] = {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {1, 1, 1}};
+  for (size_t c = 0; c < sizeof flips / sizeof flips[0]; ++c) {
+    char name[16];
+    snprintf(name, sizeof name, "dec%zu", c);
+    cf_grid_cdl(text, sizeof text, name, flips[c][0], flips[c][1], flips[c][2], 5);
+    if (!CHECK(load(make(name, text), NULL, &got) == SL_OK)) continue;
+    const sl_volume *a = &ref.volume, *b = &got.volume;
+    long differ = a->nx != b->nx || a->ny != b->ny || a->nz != b->nz;
+    for (int p = 0; !differ && p < SL_PARTICLE_COUNT; ++p) {
+      if (!a->eta[p] != !b->eta[p]) differ = 1;
+      for (size_t i = 0; a->eta[p] && b->eta[p] && i < sl_volume_count(a); ++i) differ += a->eta[p][i] != b->eta[p][i];
+    }
+    char what[200];
+    snprintf(what, sizeof what,
+             "x %s, y %s, z %s: the same frame as increasing coordinates (%ld cells differ; centre %.4f %.4f against "
+             "%.4f %.4f)",
+             flips[c][0] ? "east to west" : "up", flips[c][1] ? "north to south" : "up", flips[c][2] ? "top down" : "up",
+             differ, got.center_lat, got.center_lon, ref.center_lat, ref.center_lon);
+    CHECK_MSG(differ == 0 && got.center_lat == ref.center_lat && got.center_lon == ref.center_lon, what);
+    sl_storm_frame_free(&got);
+  }
+  sl_storm_frame_free(&ref);
+  /* One column: named as such, not "must increase". */
+  cf_grid_cdl(text, sizeof text, "one", 0, 0, 0, 1);
+  sl_error err = {0};
+  static sl_storm_info info;
+  CHECK_MSG(sl_storm_read_info(make("one", text), &info, &err) != SL_OK && strstr(err.message, "at least 2"),
+            err.message);
+}
+
+/* A CF time coordinate counts in its calendar: 400 and 401.5 days since 2000-01-01 are
+ * 2001-02-05 and 2001-02-06 12:00 in a noleap calendar (2000-01-01 + 400 Gregorian days would be
+ * 2001-02-04), 2001-02-11 and 2001-02-12 12:00 in a 360_day one; the sun takes the 360_day dates
+ * at the same fraction of the year (day 40 of 360 is day 40.6 of 365: Feb 10). A calendar the
+ * reader does not know leaves the times index-only and is named. */
+static void test_calendars(void)
+{
+  const char *cdl =
+      "netcdf cal {\n dimensions: time = 2 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " double time(time) ; time:units = \"days since 2000-01-01 00:00:00\" ; time:calendar = \"%s\" ;\n"
+      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+      " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n data:\n"
+      " time = 400, 401.5 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+      " ta = 291, 291, 291, 291, 291, 291, 291, 291 ; pa = 85000, 85000, 85000, 85000, 85000, 85000, 85000, 85000 ;\n}\n";
+  const struct {
+    const char *calendar, *t0, *t1, *sun0;
+  } cases[] = {{"noleap", "2001-02-05_00:00:00", "2001-02-06_12:00:00", "2001-02-05_00:00:00"},
+               {"360_day", "2001-02-11_00:00:00", "2001-02-12_12:00:00", "2001-02-10_00:00:00"},
+               {"proleptic_gregorian", "2001-02-04_00:00:00", "2001-02-05_12:00:00", "2001-02-04_00:00:00"},
+               {"mars_sol", "", "", ""}};
+  static sl_storm_info info;
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    char text[2048], name[32];
+    snprintf(text, sizeof text, cdl, cases[c].calendar);
+    snprintf(name, sizeof name, "cal%zu", c);
+    sl_error err = {0};
+    if (!CHECK_MSG(sl_storm_read_info(make(name, text), &info, &err) == SL_OK, err.message)) continue;
+    char what[300];
+    snprintf(what, sizeof what, "calendar %s: times %s %s (sun %s), calendar '%s'; want %s %s (sun %s)", cases[c].calendar,
+             info.has_times ? info.times[0] : "-", info.has_times ? info.times[1] : "-",
+             info.has_times ? info.sun_times[0] : "-", info.calendar, cases[c].t0[0] ? cases[c].t0 : "index-only",
+             cases[c].t1, cases[c].sun0);
+    const int want_times = cases[c].t0[0] != 0;
+    CHECK_MSG(info.has_times == want_times && strcmp(info.calendar, cases[c].calendar) == 0 &&
+                  (!want_times || (strcmp(info.times[0], cases[c].t0) == 0 && strcmp(info.times[1], cases[c].t1) == 0 &&
+                                   strcmp(info.sun_times[0], cases[c].sun0) == 0)),
+              what);
+  }
+}
+
 int main(void)
 {
   if (!mkdtemp(dir)) return 1;
@@ -460,6 +535,7 @@ int main(void)
   test_split_and_double_moment();
   test_cm1_and_cf();
   test_calendars();
+  test_decreasing_coordinates();
   const char *shared = getenv("SL_SHARED_DIR");
   char katrina[4096];
   snprintf(katrina, sizeof katrina, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
