@@ -1,6 +1,7 @@
 // stormlight info: what a storm file holds, as a meteorologist wants to see it.
 #include <cjson/cJSON.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -20,6 +21,7 @@ const char *projection_name(int map_proj)
   case 2: return "polar stereographic";
   case 3: return "Mercator";
   case 6: return "latitude-longitude (cylindrical equidistant)";
+  case 0: return "none (a flat grid)";
   default: return "unknown";
   }
 }
@@ -116,9 +118,10 @@ int sl_cmd_info(int argc, char **argv)
     cJSON_AddNumberToObject(proj, "xlat_xlong_max_disagreement_deg", g.max_error_deg);
     cJSON_AddNumberToObject(proj, "xlat_xlong_max_disagreement_m", g.max_error_m);
     cJSON_AddStringToObject(proj, "placement_from", g.from_xlat ? "XLAT/XLONG" : "projection");
+    cJSON_AddBoolToObject(proj, "placed", g.placed);
     cJSON *corners = cJSON_AddObjectToObject(root, "corners");
     const char *const corner_names[4] = {"sw", "se", "ne", "nw"};
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4 && g.placed; ++k) {
       cJSON *c = cJSON_AddObjectToObject(corners, corner_names[k]);
       cJSON_AddNumberToObject(c, "lat", g.corner_lat[k]);
       cJSON_AddNumberToObject(c, "lon", g.corner_lon[k]);
@@ -186,13 +189,19 @@ int sl_cmd_info(int argc, char **argv)
     std::printf("memory      a load needs about %.1f MB (available %.1f GB)\n", frame.memory_estimate / 1e6,
                 sl_machine_memory() / 1e9);
     const sl_georef &g = frame.georef;
-    std::printf("placement   corners SW %.4f %.4f, SE %.4f %.4f, NE %.4f %.4f, NW %.4f %.4f (lat lon)\n",
-                g.corner_lat[0], g.corner_lon[0], g.corner_lat[1], g.corner_lon[1], g.corner_lat[2],
-                g.corner_lon[2], g.corner_lat[3], g.corner_lon[3]);
-    std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f, XLAT/XLONG agree with "
-                "the projection to %.2g deg (%.2g m): placed by %s\n",
-                g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
-                g.from_xlat ? "XLAT/XLONG" : "the projection");
+    if (g.placed) {
+      std::printf("placement   corners SW %.4f %.4f, SE %.4f %.4f, NE %.4f %.4f, NW %.4f %.4f (lat lon)\n",
+                  g.corner_lat[0], g.corner_lon[0], g.corner_lat[1], g.corner_lon[1], g.corner_lat[2],
+                  g.corner_lon[2], g.corner_lat[3], g.corner_lon[3]);
+      std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f, XLAT/XLONG agree with "
+                  "the projection to %.2g deg (%.2g m): placed by %s\n",
+                  g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
+                  g.from_xlat ? "XLAT/XLONG" : "the projection");
+    } else {
+      std::printf("placement   %s\n", std::isfinite(frame.center_lat)
+                                         ? "by the centre above only (no projection fitted to the grid's columns)"
+                                         : "none: the grid has no latitude and longitude");
+    }
     if (g.note[0]) std::printf("note        %s\n", g.note);
     std::printf("times       %d", info->ntimes);
     if (std::strcmp(info->calendar, "standard") != 0) std::printf(" (calendar %s)", info->calendar);

@@ -102,8 +102,9 @@ bool frame_solar_position(const std::string &file, long time_index, const sl_sto
   sl_solar_position pos;
   sl_error err{};
   if (!std::isfinite(frame.center_lat) || !std::isfinite(frame.center_lon)) {
-    *why = file + ": the grid has no latitude and longitude (CM1, or a projected CF grid without 2-D lat/lon or a "
-                  "projection origin): give the sun's azimuth and elevation";
+    *why = file + ": the grid has no latitude and longitude (CM1, a WRF idealized run with MAP_PROJ 0 and no --origin, "
+                  "or a projected CF grid without 2-D lat/lon or a projection origin): give the sun's azimuth and "
+                  "elevation";
     return false;
   }
   if (sl_solar_position_compute(&when, frame.center_lat, frame.center_lon, nullptr, &pos, &err)) {

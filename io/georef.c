@@ -74,6 +74,7 @@ int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2
   for (size_t c = 0; c < n2; ++c)
     if (!(fabs(xlat[c]) <= 90.0) || !(fabs(xlon[c]) <= 540.0))
       return sl_fail(err, SL_ERR_DATA, "%s: XLAT/XLONG out of range (%g, %g)", path, xlat[c], xlon[c]);
+  g->placed = 1;
   if (!usable) {
     /* A known projection whose attributes are missing or invalid: XLAT/XLONG still place it. */
     g->max_error_deg = g->max_error_m = NAN;
@@ -176,6 +177,17 @@ void sl_georef_place(sl_georef *g, double origin_lat, double origin_lon)
   double de = north[0] - g->center_enu[0], dn = north[1] - g->center_enu[1];
   if (g->center_lat >= 89.0) de = -de, dn = -dn;
   g->frame_rotation_deg = atan2(de, dn) * 180.0 / M_PI;
+}
+
+void sl_georef_flat(sl_georef *g, int nx, int ny, double dx, double dy)
+{
+  memset(g, 0, sizeof *g);
+  g->nx = nx, g->ny = ny, g->dx = g->ground_dx = dx, g->dy = g->ground_dy = dy;
+  g->map_factor_min = g->map_factor_max = 1.0;
+  g->max_error_deg = g->max_error_m = NAN;
+  g->center_lat = g->center_lon = g->origin_lat = g->origin_lon = NAN;
+  for (int k = 0; k < 4; ++k) g->corner_lat[k] = g->corner_lon[k] = NAN;
+  snprintf(g->note, sizeof g->note, "MAP_PROJ 0 (an idealized run): a flat grid with no place on the earth");
 }
 
 double sl_georef_grid_azimuth(const sl_georef *g, double compass_azimuth_deg)

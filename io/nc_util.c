@@ -100,6 +100,9 @@ int sl_nc_open(const char *path, const void *data, size_t size, sl_nc *f, sl_err
     return SL_OK;
   }
   f->id = -1;
+  struct stat st;
+  if (!data && stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+    return sl_fail(err, SL_ERR_IO, "%s: is a directory, not a NetCDF file", path);
   if (status == NC_ENOTNC || status == NC_EHDFERR || status == NC_ENOTBUILT)
     return sl_fail(err, SL_ERR_FORMAT, "%s: not a NetCDF file (or truncated)", path);
   return sl_fail(err, SL_ERR_IO, "%s: cannot open: %s", path, nc_strerror(status));

@@ -36,6 +36,8 @@ typedef struct sl_georef {
   double center_enu[3];           /* the grid centre at sea level, m */
   double frame_rotation_deg;      /* azimuth in the world frame of true north at the centre */
   char note[256];                 /* one line when the projection was not trusted, else empty */
+  int placed;                     /* 1 when the grid has a place on the earth (sl_georef_build); 0 for
+                                     a flat grid (sl_georef_flat) and for readers that build none */
 } sl_georef;
 
 /* Builds the projection from WRF's attributes and fits the grid to xlat/xlon (ny x nx, degrees).
@@ -45,6 +47,10 @@ typedef struct sl_georef {
 int sl_georef_build(sl_georef *g, int map_proj, double truelat1, double truelat2, double stand_lon,
                     double pole_lat, double pole_lon, int nx, int ny, double dx, double dy, const double *xlat,
                     const double *xlon, const char *path, sl_error *err);
+/* A grid without a place on the earth (WRF's idealized runs, MAP_PROJ 0): flat, columns dx and dy
+ * apart on the ground, +y the world's north, centred on the world origin; latitudes, corners and
+ * the XLAT/XLONG check NAN, with a note that says so. */
+void sl_georef_flat(sl_georef *g, int nx, int ny, double dx, double dy);
 /* Latitude and longitude of grid position (i, j) (0-based, fractional allowed) by the projection. */
 void sl_georef_grid_latlon(const sl_georef *g, double i, double j, double *lat, double *lon);
 /* Places the grid in the ENU frame of (origin_lat, origin_lon); NAN places it at its own centre. */

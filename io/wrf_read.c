@@ -124,7 +124,9 @@ static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   info->dy = sl_nc_attr_double(f, NC_GLOBAL, "DY", NAN);
   if (!(info->dx > 0.0 && info->dx < 1e6) || !(info->dy > 0.0 && info->dy < 1e6))
     return sl_fail(err, SL_ERR_FORMAT, "%s: missing or absurd grid spacing attributes DX/DY", path);
-  const double map_proj = sl_nc_attr_double(f, NC_GLOBAL, "MAP_PROJ", 0);
+  const double map_proj = sl_nc_attr_double(f, NC_GLOBAL, "MAP_PROJ", NAN);
+  if (isnan(map_proj))
+    return sl_fail(err, SL_ERR_FORMAT, "%s: missing the global attribute MAP_PROJ (the map projection of the grid)", path);
   info->map_proj = attr_code(map_proj);
   if (!map_proj_supported(info->map_proj) || info->map_proj != map_proj)
     return sl_fail(err, SL_ERR_FORMAT,
@@ -336,6 +338,8 @@ static int load_subset(const sl_nc *f, const sl_storm_info *info, const sl_load_
   if (opt && opt->has_region) {
     if (info->kind != SL_STORM_WRF)
       return sl_fail(err, SL_ERR_ARG, "%s: --region needs XLAT/XLONG (a WRF file)", f->path);
+    if (info->map_proj == 0)
+      return sl_fail(err, SL_ERR_ARG, "%s: --region needs latitudes: MAP_PROJ 0 (an idealized run) has none", f->path);
     return wrf_region(f, info, opt->time_index, opt->region, s, err);
   }
   return SL_OK;
@@ -370,12 +374,13 @@ static int keep_columns(sl_storm_frame *frame, wrf_levels *w, const size_t *l2, 
     for (size_t c = 0; frame->land_mask && c < n2; ++c) frame->land_mask[c] = frame->land_mask[c] < 1.5f ? 1.0f : 0.0f;
   }
   frame->terrain_height = malloc(n2 * sizeof(float));
-  frame->column_lat = malloc(n2 * sizeof(double));
-  frame->column_lon = malloc(n2 * sizeof(double));
-  if (!frame->terrain_height || !frame->column_lat || !frame->column_lon)
-    return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", w->f->path);
+  if (!frame->terrain_height) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", w->f->path);
   if ((rc = wrf_slab(w, hgt, -1, scratch, err))) return rc;
   for (size_t c = 0; c < n2; ++c) frame->terrain_height[c] = (float)scratch[c];
+  if (!xlat) return SL_OK; /* a grid without latitudes (MAP_PROJ 0) */
+  frame->column_lat = malloc(n2 * sizeof(double));
+  frame->column_lon = malloc(n2 * sizeof(double));
+  if (!frame->column_lat || !frame->column_lon) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", w->f->path);
   if ((rc = wrf_slab(w, xlat, -1, frame->column_lat, err))) return rc;
   return wrf_slab(w, xlong, -1, frame->column_lon, err);
 }
@@ -405,8 +410,13 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
       (rc = sl_nc_var_open(f, "T", 3, d3, l3, &w.theta, err)) ||
       (rc = sl_nc_var_open(f, "QVAPOR", 3, d3, l3, &w.qv, err)) ||
       (rc = sl_nc_var_open(f, "PH", 3, d3s, l3s, &w.ph, err)) ||
-      (rc = sl_nc_var_open(f, "PHB", 3, d3s, l3s, &w.phb, err)) || (rc = sl_nc_var_open(f, "HGT", 2, d2, l2, &hgt, err)) ||
-      (rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &xlat, err)) || (rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &xlong, err)))
+      (rc = sl_nc_var_open(f, "PHB", 3, d3s, l3s, &w.phb, err)) || (rc = sl_nc_var_open(f, "HGT", 2, d2, l2, &hgt, err)))
+    return rc;
+  /* An idealized run (MAP_PROJ 0: em_quarter_ss, em_squall2d, ...) has no place on the earth, and
+   * its XLAT/XLONG, where written at all, hold zeros. */
+  const int flat = info->map_proj == 0;
+  if (!flat && ((rc = sl_nc_var_open(f, "XLAT", 2, d2, l2, &xlat, err)) ||
+                (rc = sl_nc_var_open(f, "XLONG", 2, d2, l2, &xlong, err))))
     return rc;
   double *a = malloc(n2 * sizeof(double)), *b = malloc(n2 * sizeof(double));
   double *drop = NULL; /* per column, m: the sphere's depth below the world's tangent plane */
@@ -437,7 +447,9 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   /* Georeferencing (io/georef.c) on the whole grid: this time's XLAT/XLONG place it, so a moving
    * nest sits where it was; the projection from the attributes is checked against them. The
    * subset's columns are then the whole grid's, every stride-th from (i0, j0). */
-  {
+  if (flat) {
+    sl_georef_flat(&frame->georef, info->nx, info->ny, info->dx, info->dy);
+  } else {
     const size_t nfull = (size_t)info->nx * info->ny;
     const sl_subset whole = {.stride = 1, .nx = info->nx, .ny = info->ny, .nz = 1};
     double *lat_full = malloc(nfull * sizeof(double)), *lon_full = malloc(nfull * sizeof(double));
@@ -452,7 +464,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
     free(lon_full);
     if (rc) goto done;
   }
-  if (opt && opt->has_origin) sl_georef_place(&frame->georef, opt->origin_lat, opt->origin_lon);
+  if (opt && opt->has_origin && !flat) sl_georef_place(&frame->georef, opt->origin_lat, opt->origin_lon);
   const sl_georef *geo = &frame->georef;
   /* Ground distance between columns at the centre (DX over the map factor), ENU corner. */
   const double spacing_h[2] = {geo->ground_dx * s.stride, geo->ground_dy * s.stride};
@@ -475,7 +487,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground - max_drop, top, dz, spacing_h, corner_xy, drop,
                             frame, err)))
     goto done;
-  if ((rc = keep_columns(frame, &w, l2, &hgt, &xlat, &xlong, a, err))) goto done;
+  if ((rc = keep_columns(frame, &w, l2, &hgt, flat ? NULL : &xlat, flat ? NULL : &xlong, a, err))) goto done;
   /* The ground sinks with its columns, so the terrain surface stays under its storm. */
   if (drop)
     for (size_t c = 0; c < n2; ++c) frame->terrain_height[c] -= (float)drop[c];
@@ -483,8 +495,14 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
    * even) from the georeference, a subset's centre column from its own latitudes/longitudes. */
   const size_t centre = (size_t)(s.ny / 2) * s.nx + s.nx / 2;
   const int whole_grid = s.stride == 1 && s.nx == info->nx && s.ny == info->ny;
-  frame->center_lat = whole_grid ? geo->center_lat : frame->column_lat[centre];
-  frame->center_lon = whole_grid ? geo->center_lon : frame->column_lon[centre];
+  if (flat) {
+    /* --origin says where the idealized storm stands (its centre), for a sun from a date. */
+    frame->center_lat = opt && opt->has_origin ? opt->origin_lat : NAN;
+    frame->center_lon = opt && opt->has_origin ? opt->origin_lon : NAN;
+  } else {
+    frame->center_lat = whole_grid ? geo->center_lat : frame->column_lat[centre];
+    frame->center_lon = whole_grid ? geo->center_lon : frame->column_lon[centre];
+  }
   frame->terrain_min = ground;
   frame->terrain_max = hmax;
   frame->model_top = top;

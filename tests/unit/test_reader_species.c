@@ -528,6 +528,61 @@ static void test_calendars(void)
   }
 }
 
+/* A WRF idealized run (MAP_PROJ 0: em_quarter_ss, em_squall2d) has no place on the earth: it
+ * loads flat, its columns DX apart (its Mercator twin, placed by XLAT/XLONG 0.01 degrees apart at
+ * 25 N, has them 1008 m apart), with the same cells as that twin, no latitudes, and a centre only
+ * where --origin gives one; --region (latitudes) is refused. */
+static void test_idealized_wrf(void)
+{
+  const char *merc = wrf("ideal_merc", 4, 5.0, TWO_TIMES, "float QCLOUD" Q3, " QCLOUD = 1e-3, 2e-3, 3e-3, 4e-3, 1e-3, 2e-3, 3e-3, 4e-3 ;");
+  char cdl_path[600];
+  snprintf(cdl_path, sizeof cdl_path, "%s/ideal_merc.cdl", dir);
+  static char text[16384];
+  FILE *in = fopen(cdl_path, "r");
+  if (!CHECK(in != NULL)) return;
+  const size_t n = fread(text, 1, sizeof text - 1, in);
+  fclose(in);
+  text[n] = 0;
+  /* MAP_PROJ 0 and zero latitudes, as ideal.exe writes them. */
+  char *at = strstr(text, ":MAP_PROJ = 3");
+  char *lat = strstr(text, "XLAT = "), *lon = strstr(text, "XLONG = ");
+  if (!CHECK(at && lat && lon)) return;
+  at[12] = '0';
+  for (char *c = lat + 7; *c != ';'; ++c)
+    if (*c != ',' && *c != ' ') *c = *c == '-' ? ' ' : '0';
+  for (char *c = lon + 8; *c != ';'; ++c)
+    if (*c != ',' && *c != ' ') *c = *c == '-' ? ' ' : '0';
+  char *name_end = strstr(text, "ideal_merc");
+  if (name_end) memcpy(name_end, "ideal_flat", 10);
+  const char *flat = make("ideal_flat", text);
+  static sl_storm_frame a, b;
+  if (!CHECK(load(merc, NULL, &a) == SL_OK) || !CHECK(load(flat, NULL, &b) == SL_OK)) return;
+  long differ = a.volume.nx != b.volume.nx || a.volume.ny != b.volume.ny || a.volume.nz != b.volume.nz;
+  for (size_t i = 0; !differ && i < sl_volume_count(&a.volume); ++i)
+    differ += a.volume.eta[SL_CLOUD][i] != b.volume.eta[SL_CLOUD][i];
+  char what[200];
+  snprintf(what, sizeof what, "idealized WRF: spacing %.1f x %.1f m (want 1000), Mercator twin %.1f; %ld cells differ; "
+           "centre %g %g, placed %d",
+           b.volume.spacing[0], b.volume.spacing[1], a.volume.spacing[0], differ, b.center_lat, b.center_lon,
+           b.georef.placed);
+  CHECK_MSG(b.volume.spacing[0] == 1000.0 && b.volume.spacing[1] == 1000.0 &&
+                differ == 0 && isnan(b.center_lat) && !b.column_lat && !b.georef.placed,
+            what);
+  sl_storm_frame_free(&b);
+  sl_load_options opt = {0};
+  opt.has_origin = 1, opt.origin_lat = 35.0, opt.origin_lon = -97.0;
+  if (CHECK(load(flat, &opt, &b) == SL_OK))
+    CHECK_MSG(b.center_lat == 35.0 && b.center_lon == -97.0, "idealized WRF with --origin: centred there");
+  sl_storm_frame_free(&b);
+  sl_load_options region = {0};
+  region.has_region = 1;
+  const double box[4] = {-1, 1, -1, 1};
+  memcpy(region.region, box, sizeof box);
+  sl_error err = {0};
+  CHECK_MSG(sl_storm_load(flat, &region, &b, &err) != SL_OK && strstr(err.message, "MAP_PROJ 0"), err.message);
+  sl_storm_frame_free(&a);
+}
+
 int main(void)
 {
   if (!mkdtemp(dir)) return 1;
@@ -536,6 +591,7 @@ int main(void)
   test_cm1_and_cf();
   test_calendars();
   test_decreasing_coordinates();
+  test_idealized_wrf();
   const char *shared = getenv("SL_SHARED_DIR");
   char katrina[4096];
   snprintf(katrina, sizeof katrina, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
