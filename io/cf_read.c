@@ -498,6 +498,13 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
   if (!rc && !c->have_rho) rc = cf_block(c, &c->p, a, err);
   if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
   for (size_t i = 0; !rc && i < n; ++i) {
+    /* Small negative vapour is advection noise (clamped, as the hydrometeors are); beyond that,
+     * or past 0.1 kg/kg (air holds at most a few hundredths), it is not a humidity at all. */
+    if (!(qv[i] >= -0.01 && qv[i] <= 0.1)) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: water vapour %g kg/kg at time %d is not physical (are its units right?)",
+                   c->f->path, qv[i], c->t);
+      break;
+    }
     /* Specific humidity q_s is per kg of moist air: mixing ratio q_s / (1 - q_s). */
     const double q = fmax(qv[i], 0.0), r = c->qv_specific ? q / (1.0 - q) : q;
     double t = c->have_temp || c->have_theta ? temp[i] : INFINITY, rho;

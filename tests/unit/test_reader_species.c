@@ -583,6 +583,36 @@ static void test_idealized_wrf(void)
   sl_storm_frame_free(&a);
 }
 
+/* Water vapour past any humidity the air can hold (15 "kg/kg": g/kg mislabelled) or far below
+ * zero is refused naming it; a little below zero is advection noise and loads. */
+static void test_vapour_bounds(void)
+{
+  const char *cdl =
+      "netcdf hus {\n dimensions: time = 1 ; z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " double time(time) ; time:units = \"hours since 2024-06-15 00:00:00\" ;\n"
+      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
+      " float cl(time, z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;\n"
+      " float ta(time, z, y, x) ; ta:standard_name = \"air_temperature\" ;\n"
+      " float pa(time, z, y, x) ; pa:standard_name = \"air_pressure\" ;\n"
+      " float hus(time, z, y, x) ; hus:standard_name = \"specific_humidity\" ; hus:units = \"kg/kg\" ;\n data:\n"
+      " time = 0 ; z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
+      " ta = 291, 291, 291, 291 ; pa = 85000, 85000, 85000, 85000 ; hus = 0.01, %s, 0.01, 0.01 ;\n}\n";
+  const char *values[] = {"15", "-0.5", "-1e-4"};
+  for (int v = 0; v < 3; ++v) {
+    char text[2048], name[16];
+    snprintf(text, sizeof text, cdl, values[v]);
+    snprintf(name, sizeof name, "hus%d", v);
+    sl_error err = {0};
+    static sl_storm_frame f;
+    sl_load_options opt = {0};
+    const int rc = sl_storm_load(make(name, text), &opt, &f, &err);
+    char what[600];
+    snprintf(what, sizeof what, "specific humidity %s: %s", values[v], rc ? err.message : "loaded");
+    CHECK_MSG(v < 2 ? rc != SL_OK && strstr(err.message, "water vapour") : rc == SL_OK, what);
+    if (!rc) sl_storm_frame_free(&f);
+  }
+}
+
 int main(void)
 {
   if (!mkdtemp(dir)) return 1;
@@ -592,6 +622,7 @@ int main(void)
   test_calendars();
   test_decreasing_coordinates();
   test_idealized_wrf();
+  test_vapour_bounds();
   const char *shared = getenv("SL_SHARED_DIR");
   char katrina[4096];
   snprintf(katrina, sizeof katrina, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
