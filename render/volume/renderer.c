@@ -451,6 +451,9 @@ typedef struct tile_ranges {
   int nx, ny;
   int *k;      /* per tile: first and last active slice (first > last: never active) */
   int *active; /* per thread, room for a list of every tile (tiles_active) */
+  int *work;   /* two per tile: its samples in a slice it had work, plus one (tiles_share): slice k's
+                  cuts read row k % 2 while its tiles write row (k + 1) % 2, so that no thread's
+                  cut sees another's writes of the same slice */
 } tile_ranges;
 
 static int tiles_init(tile_ranges *t, int w, int h, int threads)
@@ -458,14 +461,14 @@ static int tiles_init(tile_ranges *t, int w, int h, int threads)
   t->nx = (w + TILE - 1) / TILE, t->ny = (h + TILE - 1) / TILE;
   t->k = malloc((size_t)t->nx * t->ny * 2 * sizeof(int));
   t->active = malloc((size_t)t->nx * t->ny * threads * sizeof(int));
-  return t->k != NULL && t->active != NULL;
+  t->work = malloc((size_t)t->nx * t->ny * 2 * sizeof(int));
+  return t->k != NULL && t->active != NULL && t->work != NULL;
 }
 
+static void tiles_free(tile_ranges *t) { free(t->k), free(t->active), free(t->work); }
+
 /* The tiles whose range holds slice k, in order, in the calling thread's own list (returned).
- * Every thread builds the same list, so a work-sharing loop over it is well formed without a
- * barrier, and its dynamic schedule hands out only tiles with work: over every tile of the frame
- * (1024 at 512^2, most idle in any one slice) its shared counter was taken 0.4M times a frame,
- * and the eye pass took 3-4 % longer (docs/PERFORMANCE.md, session 13). */
+ * Every thread builds the same list (no barrier), and shares it out with tiles_share. */
 static inline int *tiles_active(const tile_ranges *t, int k, int *count)
 {
   const size_t n = (size_t)t->nx * t->ny;
@@ -476,6 +479,36 @@ static inline int *tiles_active(const tile_ranges *t, int k, int *count)
   }
   *count = c;
   return list;
+}
+
+/* The calling thread's part [*first, *end) of a slice's active tiles: a contiguous run of the
+ * list, the runs cut where the tiles' work in their last slice adds up to equal shares. Contiguous
+ * runs keep a thread on the same part of the image (or light buffer) from slice to slice, its
+ * pixels and texels in its own core's caches: with a dynamic schedule, tiles went to whichever
+ * thread asked, and the two threads did a fifth more work than one (docs/PERFORMANCE.md, session
+ * 14). Every thread computes every cut from the same list and counts, so the runs tile the list. */
+static inline void tiles_share(const tile_ranges *t, int k, const int *list, int count, int *first, int *end)
+{
+  const int threads = omp_get_num_threads(), me = omp_get_thread_num();
+  *first = 0, *end = count;
+  if (threads == 1) return;
+  const int *work = t->work + (size_t)(k & 1) * t->nx * t->ny;
+  long total = 0;
+  for (int i = 0; i < count; ++i) total += work[list[i]];
+  /* Tile i goes to the thread whose share holds the middle of its work. */
+  long before = 0;
+  *first = *end = count;
+  for (int i = 0; i < count; ++i) {
+    const long w = work[list[i]];
+    const int owner = (int)((2 * before + w) * threads / (2 * total + 1));
+    before += w;
+    if (owner == me && *first == count) *first = i;
+    if (owner > me) {
+      *end = i;
+      break;
+    }
+  }
+  if (*first > *end) *first = *end;
 }
 
 /* Tile i's range from its elements' ranges (k_lo[e], k_hi[e] of element e = y * w + x). */
@@ -491,6 +524,7 @@ static void tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k
       if (k_hi[e * stride] > hi) hi = k_hi[e * stride];
     }
   t->k[2 * i] = lo, t->k[2 * i + 1] = hi;
+  t->work[i] = t->work[(size_t)t->nx * t->ny + i] = TILE * TILE / 4 + 1; /* until the tile has run */
 }
 
 /* The light-buffer texel along the unit axis u (perpendicular to the sunlight) over a box extent
@@ -630,7 +664,7 @@ static inline int eye_parts(double depth)
  * times the sunlight over the extinction (sun_per_beta) as the segment gather's source. The
  * samples are independent (ivdep). */
 static inline __attribute__((always_inline)) void eye_batch_phases(
-    const sl_light_model *m, const int mode, const int nf, const int nwl, const int live,
+    const sl_light_model *restrict m, const int mode, const int nf, const int nwl, const int live,
     float (*restrict fields)[SL_MAX_FIELDS], const double *restrict n, const double *restrict probe,
     const double *restrict path_mid, const int *restrict angle_index, const double *restrict angle_weight,
     double (*restrict sun_per_beta)[EYE_BATCH], double (*restrict log_kept)[EYE_BATCH],
@@ -852,8 +886,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       /* Eye pass: gather the light scattered toward the eye from this slice (eq. 26). */
       int n_active;
       const int *active_tiles = tiles_active(&eye_tiles, k, &n_active);
-#pragma omp for schedule(dynamic, 1)
-      for (int ai = 0; ai < n_active; ++ai) {
+      int a_first, a_end;
+      tiles_share(&eye_tiles, k, active_tiles, n_active, &a_first, &a_end);
+      for (int ai = a_first; ai < a_end; ++ai) {
         const size_t ti = (size_t)active_tiles[ai];
         const int tx0 = (int)(ti % eye_tiles.nx) * TILE, ty0 = (int)(ti / eye_tiles.nx) * TILE;
         /* The tile's segments and cells first, prefetched; then per sample its fields (whose
@@ -896,6 +931,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           }
           cnt += found;
         }
+        eye_tiles.work[(size_t)((k + 1) & 1) * eye_tiles.nx * eye_tiles.ny + ti] = cnt + 1;
         /* Then in three loops: per sample its fields, light-buffer values and table look-ups
          * (scalar: they gather from tables); the exponentials and moments of every sample and
          * wavelength at once (one vector loop over the samples, no branch, libmvec's exp); the accumulation into the pixels. */
@@ -987,6 +1023,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         }
       }
+      /* The light pass rewrites the buffer the eye pass reads. */
+#pragma omp barrier
 #pragma omp master
       {
         const double t_mid = omp_get_wtime();
@@ -995,8 +1033,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       }
       /* Light pass: carry the light and its expected scattering count through this slice. */
       active_tiles = tiles_active(&light_tiles, k, &n_active);
-#pragma omp for schedule(dynamic, 1)
-      for (int ai = 0; ai < n_active; ++ai) {
+      tiles_share(&light_tiles, k, active_tiles, n_active, &a_first, &a_end);
+      for (int ai = a_first; ai < a_end; ++ai) {
         const size_t ti = (size_t)active_tiles[ai];
         const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
         int cnt = 0;
@@ -1046,12 +1084,14 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           live++;
         }
         cnt = live;
+        light_tiles.work[(size_t)((k + 1) & 1) * light_tiles.nx * light_tiles.ny + ti] = cnt + 1;
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, cnt, bj, &held_model);
 #define LIGHT_STEPS(model, mode, count) light_steps(model, mode, count, nwl, cnt, idx, seg, bj, L.state, L.stride)
         SL_WITH_BATCH_MODEL(m, held_model, held, nf, LIGHT_STEPS);
 #undef LIGHT_STEPS
       }
+#pragma omp barrier
 #pragma omp master
       {
         f->light_seconds += omp_get_wtime() - t_start;
@@ -1213,7 +1253,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       !angle_weight || !tiles_ok) {
     free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
     free(acc), free(ray), free(pk), free(suntab), free(angle_index), free(angle_weight);
-    free(eye_tiles.k), free(light_tiles.k), free(eye_tiles.active), free(light_tiles.active);
+    tiles_free(&eye_tiles), tiles_free(&light_tiles);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
   }
   const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
@@ -1244,7 +1284,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   free(suntab);
   free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
   free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
-  free(eye_tiles.k), free(light_tiles.k), free(eye_tiles.active), free(light_tiles.active);
+  tiles_free(&eye_tiles), tiles_free(&light_tiles);
   return SL_OK;
 }
 
