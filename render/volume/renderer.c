@@ -13,6 +13,9 @@
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
 #include <string.h>
 
 
@@ -451,7 +454,7 @@ typedef struct tile_ranges {
   int nx, ny;
   int *k;      /* per tile: first and last active slice (first > last: never active) */
   int *active; /* per thread, room for a list of every tile (tiles_active) */
-  int *work;   /* two per tile: its samples in a slice it had work, plus one (tiles_share): slice k's
+  int *work;   /* two per tile: its cost in a slice it had work (tile_cost; tiles_share): slice k's
                   cuts read row k % 2 while its tiles write row (k + 1) % 2, so that no thread's
                   cut sees another's writes of the same slice */
 } tile_ranges;
@@ -479,6 +482,30 @@ static inline int *tiles_active(const tile_ranges *t, int k, int *count)
   }
   *count = c;
   return list;
+}
+
+/* A tile's cost as its share weight: the time it took (the cycle counter, a few cycles to read),
+ * so that the cuts follow what the tiles really cost, parts, fields and all; its sample count
+ * where there is no cycle counter. */
+static inline unsigned long long tile_clock(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+  return __rdtsc();
+#else
+  return 0;
+#endif
+}
+
+static inline int tile_cost(unsigned long long start, int samples)
+{
+#if defined(__x86_64__) || defined(__i386__)
+  (void)samples;
+  const unsigned long long cycles = (__rdtsc() - start) >> 6;
+  return cycles < (1u << 24) ? (int)cycles + 1 : 1 << 24;
+#else
+  (void)start;
+  return samples + 1;
+#endif
 }
 
 /* The calling thread's part [*first, *end) of a slice's active tiles: a contiguous run of the
@@ -524,7 +551,7 @@ static void tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k
       if (k_hi[e * stride] > hi) hi = k_hi[e * stride];
     }
   t->k[2 * i] = lo, t->k[2 * i + 1] = hi;
-  t->work[i] = t->work[(size_t)t->nx * t->ny + i] = TILE * TILE / 4 + 1; /* until the tile has run */
+  t->work[i] = t->work[(size_t)t->nx * t->ny + i] = 1; /* until the tile has run: its cost is unknown */
 }
 
 /* The light-buffer texel along the unit axis u (perpendicular to the sunlight) over a box extent
@@ -890,6 +917,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       tiles_share(&eye_tiles, k, active_tiles, n_active, &a_first, &a_end);
       for (int ai = a_first; ai < a_end; ++ai) {
         const size_t ti = (size_t)active_tiles[ai];
+        const unsigned long long tile_start = tile_clock();
         const int tx0 = (int)(ti % eye_tiles.nx) * TILE, ty0 = (int)(ti / eye_tiles.nx) * TILE;
         /* The tile's segments and cells first, prefetched; then per sample its fields (whose
          * loads have been in flight meanwhile) and the gather. */
@@ -931,7 +959,6 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           }
           cnt += found;
         }
-        eye_tiles.work[(size_t)((k + 1) & 1) * eye_tiles.nx * eye_tiles.ny + ti] = cnt + 1;
         /* Then in three loops: per sample its fields, light-buffer values and table look-ups
          * (scalar: they gather from tables); the exponentials and moments of every sample and
          * wavelength at once (one vector loop over the samples, no branch, libmvec's exp); the accumulation into the pixels. */
@@ -1022,6 +1049,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           if (!back_to_front && a[nwl] < sc->termination_transparency) pk[2 * q + 1] = k;
         }
         }
+        eye_tiles.work[(size_t)((k + 1) & 1) * eye_tiles.nx * eye_tiles.ny + ti] = tile_cost(tile_start, cnt);
       }
       /* The light pass rewrites the buffer the eye pass reads. */
 #pragma omp barrier
@@ -1036,6 +1064,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       tiles_share(&light_tiles, k, active_tiles, n_active, &a_first, &a_end);
       for (int ai = a_first; ai < a_end; ++ai) {
         const size_t ti = (size_t)active_tiles[ai];
+        const unsigned long long tile_start = tile_clock();
         const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
         int cnt = 0;
         int idx[TILE * TILE];
@@ -1084,12 +1113,12 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           live++;
         }
         cnt = live;
-        light_tiles.work[(size_t)((k + 1) & 1) * light_tiles.nx * light_tiles.ny + ti] = cnt + 1;
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, cnt, bj, &held_model);
 #define LIGHT_STEPS(model, mode, count) light_steps(model, mode, count, nwl, cnt, idx, seg, bj, L.state, L.stride)
         SL_WITH_BATCH_MODEL(m, held_model, held, nf, LIGHT_STEPS);
 #undef LIGHT_STEPS
+        light_tiles.work[(size_t)((k + 1) & 1) * light_tiles.nx * light_tiles.ny + ti] = tile_cost(tile_start, cnt);
       }
 #pragma omp barrier
 #pragma omp master
