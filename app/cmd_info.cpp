@@ -193,10 +193,15 @@ int sl_cmd_info(int argc, char **argv)
       std::printf("placement   corners SW %.4f %.4f, SE %.4f %.4f, NE %.4f %.4f, NW %.4f %.4f (lat lon)\n",
                   g.corner_lat[0], g.corner_lon[0], g.corner_lat[1], g.corner_lon[1], g.corner_lat[2],
                   g.corner_lon[2], g.corner_lat[3], g.corner_lon[3]);
-      std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f, XLAT/XLONG agree with "
-                  "the projection to %.2g deg (%.2g m): placed by %s\n",
-                  g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
-                  g.from_xlat ? "XLAT/XLONG" : "the projection");
+      if (std::isfinite(g.max_error_deg))
+        std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f, XLAT/XLONG agree with "
+                    "the projection to %.2g deg (%.2g m): placed by %s\n",
+                    g.grid_north_deg, g.map_factor_min, g.map_factor_max, g.max_error_deg, g.max_error_m,
+                    g.from_xlat ? "XLAT/XLONG" : "the projection");
+      else
+        std::printf("            grid north %.3f deg from true north, map factor %.4f..%.4f: placed by XLAT/XLONG "
+                    "(the projection's attributes are not usable, see the note)\n",
+                    g.grid_north_deg, g.map_factor_min, g.map_factor_max);
     } else {
       std::printf("placement   %s\n", std::isfinite(frame.center_lat)
                                          ? "by the centre above only (no projection fitted to the grid's columns)"
