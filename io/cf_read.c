@@ -89,6 +89,10 @@ static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int
   step = fabs(step);
   if (*scale > 0.0) {
     *spacing = step * *scale;
+  } else if (is_degrees(units) && strncmp(stdname, "projection_", 11) == 0) {
+    rc = sl_fail(err, SL_ERR_FORMAT,
+                 "%s: coordinate '%s' is a %s in '%s': projected coordinates are lengths (m or km), not degrees",
+                 f->path, dim, stdname, units);
   } else if (is_degrees(units)) {
     /* Latitude-longitude: metres on a sphere at the domain's middle latitude (placement on the
      * ellipsoid is the georeferencing's business). */

@@ -478,6 +478,24 @@ static void test_decreasing_coordinates(void)
     sl_storm_frame_free(&got);
   }
   sl_storm_frame_free(&ref);
+  /* Degrees where they do not belong: a projection coordinate in degrees (a Lambert grid_mapping
+   * was ignored and the grid read as lat-lon), longitudes on the y axis (refused as the X axis). */
+  const struct {
+    const char *from, *to, *want;
+  } wrong[] = {{"x:units = \"degrees_east\" ;", "x:units = \"degrees\" ; x:standard_name = \"projection_x_coordinate\" ;",
+                "lengths"},
+               {"y:units = \"degrees_north\" ;", "y:units = \"degree_E\" ;", "X axis"}};
+  for (int w = 0; w < 2; ++w) {
+    cf_grid_cdl(text, sizeof text, "deg", 0, 0, 0, 5);
+    char *at = strstr(text, wrong[w].from);
+    if (!CHECK(at != NULL)) continue;
+    static char edited[16384];
+    snprintf(edited, sizeof edited, "%.*s%s%s", (int)(at - text), text, wrong[w].to, at + strlen(wrong[w].from));
+    sl_error e = {0};
+    static sl_storm_info winfo;
+    CHECK_MSG(sl_storm_read_info(make(w ? "deg1" : "deg0", edited), &winfo, &e) != SL_OK && strstr(e.message, wrong[w].want),
+              e.message);
+  }
   /* One column: named as such, not "must increase". */
   cf_grid_cdl(text, sizeof text, "one", 0, 0, 0, 1);
   sl_error err = {0};
