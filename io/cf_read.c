@@ -274,17 +274,27 @@ static int cf_projection(const sl_nc *f, const cf_layout *L, sl_storm_info *info
  * included, all in the coordinates' units).
  * Leaves NaN where the file gives no grid_mapping or no origin. On WRF's sphere, as every
  * projection here; the centre places the sun and the air mass, for which a sphere serves. */
-/* The x and y coordinate values (in the file's units) of the subset's centre column; 0 when the
- * coordinates cannot be read there. */
+/* The coordinate value (in the file's units) at the middle of `coord`'s n read points, from first
+ * every stride-th: grid position (n - 1) / 2, between two points when n is even (the grid's
+ * centre, as the volume and the WRF reader place it; a reversed axis has the same middle). 0 when
+ * the coordinate cannot be read there. */
+static int cf_middle_coord(const sl_nc *f, const char *coord, size_t first, size_t n, size_t stride, double *value)
+{
+  const size_t lo = first + (n - 1) / 2 * stride, hi = first + n / 2 * stride;
+  double a, b;
+  int id;
+  if (nc_inq_varid(f->id, coord, &id) != NC_NOERR || !sl_nc_var_is_1d(f, id, hi + 1, NULL) ||
+      nc_get_var1_double(f->id, id, &lo, &a) != NC_NOERR || nc_get_var1_double(f->id, id, &hi, &b) != NC_NOERR)
+    return 0;
+  *value = 0.5 * (a + b);
+  return 1;
+}
+
+/* The x and y coordinate values of the subset's centre; 0 when they cannot be read. */
 static int cf_centre_coords(const sl_nc *f, const cf_layout *L, const sl_subset *s, double *x, double *y)
 {
-  /* Column nx / 2 of the grid as read, counted from the far end of a reversed axis. */
-  const size_t ix = s->i0 + (size_t)(L->flip[3] ? s->nx - 1 - s->nx / 2 : s->nx / 2) * s->stride;
-  const size_t iy = s->j0 + (size_t)(L->flip[2] ? s->ny - 1 - s->ny / 2 : s->ny / 2) * s->stride;
-  int xid, yid;
-  return nc_inq_varid(f->id, L->coord[3], &xid) == NC_NOERR && sl_nc_var_is_1d(f, xid, ix + 1, NULL) &&
-         nc_get_var1_double(f->id, xid, &ix, x) == NC_NOERR && nc_inq_varid(f->id, L->coord[2], &yid) == NC_NOERR &&
-         sl_nc_var_is_1d(f, yid, iy + 1, NULL) && nc_get_var1_double(f->id, yid, &iy, y) == NC_NOERR;
+  return cf_middle_coord(f, L->coord[3], (size_t)s->i0, (size_t)s->nx, (size_t)s->stride, x) &&
+         cf_middle_coord(f, L->coord[2], (size_t)s->j0, (size_t)s->ny, (size_t)s->stride, y);
 }
 
 static void cf_projected_centre(const sl_nc *f, const cf_layout *L, const sl_storm_info *info, const sl_subset *s,

@@ -456,6 +456,12 @@ static void test_decreasing_coordinates(void)
   static sl_storm_frame ref, got;
   cf_grid_cdl(text, sizeof text, "inc", 0, 0, 0, 5);
   if (!CHECK(load(make("inc", text), NULL, &ref) == SL_OK)) return;
+  /* The centre is grid position ((nx - 1) / 2, (ny - 1) / 2): x point 2 of 5, y between points 1
+   * and 2 of 4 (35.02 and 35.04), not point 2 half a cell north. */
+  char centre[160];
+  snprintf(centre, sizeof centre, "lat-lon grid centre %.6f %.6f (want 35.030000 -96.960000)", ref.center_lat,
+           ref.center_lon);
+  CHECK_MSG(fabs(ref.center_lat - 35.03) < 1e-5 && fabs(ref.center_lon + 96.96) < 1e-5, centre); /* float coordinates */
   const int flips[][3] = {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {1, 1, 1}};
   for (size_t c = 0; c < sizeof flips / sizeof flips[0]; ++c) {
     char name[16];
