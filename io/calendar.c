@@ -3,6 +3,7 @@
  * calendars without leap days or with 30-day months. Each calendar numbers its days from its own
  * 0001-01-01; the mixed Julian/Gregorian "standard" calendar joins the two at 1582-10-15. */
 #include <math.h>
+#include <stdio.h>
 #include <strings.h>
 
 #include "storm_internal.h"
@@ -88,7 +89,15 @@ int sl_calendar_valid(sl_calendar cal, const int date[6])
   const int month_days = cal == SL_CAL_360_DAY ? 30 : month_start[leap][date[1]] - month_start[leap][date[1] - 1];
   if (date[2] > month_days) return 0;
   if (cal == SL_CAL_STANDARD && date[0] == 1582 && date[1] == 10 && date[2] > 4 && date[2] < 15) return 0;
-  return date[3] >= 0 && date[3] <= 24 && date[4] >= 0 && date[4] < 60 && date[5] >= 0 && date[5] <= 60;
+  /* Clock fields as a model may write them (24:00, a leap second): the arithmetic carries them. */
+  return date[3] >= 0 && date[3] <= 24 && date[4] >= 0 && date[4] <= 60 && date[5] >= 0 && date[5] <= 61;
+}
+
+void sl_calendar_format(const int date[6], char out[24])
+{
+  /* Valid dates' fields fit; the modulo tells the compiler so. */
+  snprintf(out, 24, "%04u-%02u-%02u_%02u:%02u:%02u", (unsigned)date[0] % 10000u, (unsigned)date[1] % 100u,
+           (unsigned)date[2] % 100u, (unsigned)date[3] % 100u, (unsigned)date[4] % 100u, (unsigned)date[5] % 100u);
 }
 
 int sl_calendar_add_seconds(sl_calendar cal, const int base[6], double seconds, int out[6])

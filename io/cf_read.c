@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 
 #include "sl_geo.h"
 #include "storm_internal.h"
@@ -356,10 +355,8 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
       ok = sl_calendar_add_seconds(cal, base, v[t] * per, at);
       if (!ok) break;
       sl_calendar_sun_date(cal, at, sun);
-      snprintf(info->times[t], sizeof info->times[t], "%04d-%02d-%02d_%02d:%02d:%02d", at[0], at[1], at[2], at[3], at[4],
-               at[5]);
-      snprintf(info->sun_times[t], sizeof info->sun_times[t], "%04d-%02d-%02d_%02d:%02d:%02d", sun[0], sun[1], sun[2],
-               sun[3], sun[4], sun[5]);
+      sl_calendar_format(at, info->times[t]);
+      sl_calendar_format(sun, info->sun_times[t]);
     }
     info->has_times = ok; /* absurd offsets: index-only times, as without a time coordinate */
   }

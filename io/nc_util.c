@@ -148,22 +148,6 @@ int sl_nc_var_is_1d(const sl_nc *f, int varid, size_t min_len, size_t *len)
   return 1;
 }
 
-int sl_plausible_date(const struct tm *tm)
-{
-  return tm->tm_year >= 1 && tm->tm_year <= 9999 && tm->tm_mon >= 1 && tm->tm_mon <= 12 && tm->tm_mday >= 1 &&
-         tm->tm_mday <= 31 && tm->tm_hour >= 0 && tm->tm_hour <= 24 && tm->tm_min >= 0 && tm->tm_min <= 60 &&
-         tm->tm_sec >= 0 && tm->tm_sec <= 61;
-}
-
-int sl_time_add_seconds(time_t base, double seconds, time_t *out)
-{
-  /* About +-30 000 years: far beyond any simulation, far inside a 64-bit time_t. */
-  const double limit = 1e12;
-  if (base == (time_t)-1 || !(fabs(seconds) < limit) || (double)base > limit || (double)base < -limit) return 0;
-  *out = base + (time_t)llround(seconds);
-  return 1;
-}
-
 int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *const *dim_names, const size_t *lens,
                    sl_nc_var *v, sl_error *err)
 {

@@ -4,7 +4,6 @@
 #define SL_STORM_INTERNAL_H
 
 #include <stddef.h>
-#include <time.h>
 
 #include "sl_storm.h"
 
@@ -37,11 +36,6 @@ int sl_nc_has_var(const sl_nc *f, const char *name);
  * in *len): the shape a coordinate or time variable must have before a 1-D start/count or a
  * whole-variable read into a buffer of min_len values may touch it. */
 int sl_nc_var_is_1d(const sl_nc *f, int varid, size_t min_len, size_t *len);
-/* A time "since" base plus a count of seconds, in a time_t; 0 when it would leave the range a
- * calendar date can print (a corrupt or absurd offset must not overflow the arithmetic). */
-/* 1 when a parsed calendar date (tm_year as the full year, tm_mon 1..12) is one a model can
- * have written: years 1..9999, fields in their ranges (before any arithmetic on them). */
-int sl_plausible_date(const struct tm *tm);
 
 /* The calendars of CF section 4.4.1 (calendar.c): "standard" (alias "gregorian": Julian before
  * 1582-10-15), "proleptic_gregorian", "julian", "noleap" (alias "365_day"), "all_leap" ("366_day")
@@ -57,7 +51,8 @@ typedef enum sl_calendar {
 } sl_calendar;
 /* The calendar a `calendar` attribute names ("" is the standard one); SL_CAL_UNKNOWN otherwise. */
 sl_calendar sl_calendar_named(const char *name);
-/* 1 when date exists in the calendar (years 1..9999). */
+/* 1 when date exists in the calendar (years 1..9999, clock fields in their ranges): checked before
+ * any arithmetic on a date parsed from a file. */
 int sl_calendar_valid(sl_calendar cal, const int date[6]);
 /* The date `seconds` after base in the calendar; 0 when base is not a date of it or the result
  * leaves years 1..9999 (an absurd offset). */
@@ -66,7 +61,8 @@ int sl_calendar_add_seconds(sl_calendar cal, const int base[6], double seconds, 
  * Gregorian and Julian calendars; for the model calendars (noleap, all_leap, 360_day) the same
  * clock time on the day at the same fraction of the year. */
 void sl_calendar_sun_date(sl_calendar cal, const int date[6], int out[6]);
-int sl_time_add_seconds(time_t base, double seconds, time_t *out);
+/* "YYYY-MM-DD_hh:mm:ss", as sl_storm_info's times. */
+void sl_calendar_format(const int date[6], char out[24]);
 /* Opens `name` and checks that its trailing `ndims` dimensions have the given lengths (names too
  * when dim_names is not NULL); a leading time dimension is optional (static fields). */
 int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *const *dim_names, const size_t *lens,

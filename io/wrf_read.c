@@ -6,7 +6,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "storm_internal.h"
 
@@ -45,39 +44,32 @@ static void times_from_xtime(const sl_nc *f, sl_storm_info *info)
   size_t len = 0;
   if (nc_inq_attlen(f->id, vid, "units", &len) == NC_NOERR && len < sizeof units)
     nc_get_att_text(f->id, vid, "units", units), units[len] = '\0';
-  struct tm tm = {0};
+  int base[6] = {0};
   const char *since = strstr(units, "since ");
   int ok = 0;
-  if (since && sscanf(since + 6, "%d-%d-%d%*[ _T]%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
-                      &tm.tm_min, &tm.tm_sec) == 6)
+  if (since && sscanf(since + 6, "%d-%d-%d%*[ _T]%d:%d:%d", &base[0], &base[1], &base[2], &base[3], &base[4],
+                      &base[5]) == 6)
     ok = 1;
   if (!ok && strncmp(units, "minutes", 7) == 0) {
     char start[64] = "";
     if (nc_inq_attlen(f->id, NC_GLOBAL, "SIMULATION_START_DATE", &len) == NC_NOERR && len < sizeof start)
       nc_get_att_text(f->id, NC_GLOBAL, "SIMULATION_START_DATE", start), start[len] = '\0';
-    ok = sscanf(start, "%d-%d-%d_%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
-                &tm.tm_sec) == 6;
+    ok = sscanf(start, "%d-%d-%d_%d:%d:%d", &base[0], &base[1], &base[2], &base[3], &base[4], &base[5]) == 6;
   }
-  if (!ok || strncmp(units, "minutes", 7) != 0 || !sl_plausible_date(&tm)) return;
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  const time_t base = timegm(&tm);
+  /* WRF counts on the Gregorian calendar. */
+  if (!ok || strncmp(units, "minutes", 7) != 0 || !sl_calendar_valid(SL_CAL_STANDARD, base)) return;
   double *minutes = malloc((size_t)info->ntimes * sizeof(double));
   if (!minutes) return;
   size_t start = 0, count = (size_t)info->ntimes;
   if (nc_get_vara_double(f->id, vid, &start, &count, minutes) == NC_NOERR) {
     info->has_times = 1;
     for (int t = 0; t < info->ntimes && info->has_times; ++t) {
-      time_t at;
-      struct tm u;
-      if (!sl_time_add_seconds(base, minutes[t] * 60.0, &at) || !gmtime_r(&at, &u)) {
+      int at[6];
+      if (!sl_calendar_add_seconds(SL_CAL_STANDARD, base, minutes[t] * 60.0, at)) {
         info->has_times = 0; /* absurd offsets: index-only times */
         break;
       }
-      char text[64];
-      snprintf(text, sizeof text, "%04d-%02d-%02d_%02d:%02d:%02d", u.tm_year + 1900, u.tm_mon + 1, u.tm_mday,
-               u.tm_hour, u.tm_min, u.tm_sec);
-      snprintf(info->times[t], sizeof info->times[t], "%.19s", text);
+      sl_calendar_format(at, info->times[t]);
     }
   }
   free(minutes);

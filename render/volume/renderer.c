@@ -387,6 +387,10 @@ static double first_occupied(const sl_renderer *r, const double o[3], const doub
   }
 }
 
+/* Two walks that stop at the first occupied brick, one from each end (the second along -d),
+ * instead of one through the whole stretch: a ray into a cloud meets occupied bricks soon from
+ * both sides, and the empty ones between are not its business (in the 256^3 storm the whole
+ * walks were about 6 % of the frame). */
 void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
                        double *first, double *last)
 {
