@@ -70,6 +70,15 @@ typedef struct sl_atmosphere {
 int sl_atmosphere_init(sl_atmosphere *atm, const double *wavelength_nm, int count,
                        sl_earth_model earth, sl_rayleigh_source rayleigh, sl_error *err);
 
+/* Height of world point p above a round ground of radius R > 0 centred at (0, 0, -R), with no
+ * branch (loops over samples vectorise): r - R without cancellation, (r^2 - R^2) / (r + R) with
+ * r^2 - R^2 = x^2 + y^2 + z (z + 2R). */
+static inline double sl_sky_altitude_round(double R, const double p[3])
+{
+  const double r = sqrt(p[0] * p[0] + p[1] * p[1] + (p[2] + R) * (p[2] + R));
+  return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
+}
+
 /* Height of world point p above the ground (p[2] for the flat ground, |p - centre| - R for the
  * round one) and, when up is not NULL, the unit local vertical there. Inline: the volume's eye
  * passes ask it at every sample (the sunlight there), in loops that vectorise. */
@@ -86,8 +95,7 @@ static inline double sl_sky_altitude(const sl_atmosphere *atm, const double p[3]
     if (r > 0.0) up[0] = c[0] / r, up[1] = c[1] / r, up[2] = c[2] / r;
     else up[0] = 0.0, up[1] = 0.0, up[2] = 1.0;
   }
-  /* r - R without cancellation: (r^2 - R^2) / (r + R), r^2 - R^2 = x^2 + y^2 + z (z + 2R). */
-  return (p[0] * p[0] + p[1] * p[1] + p[2] * (p[2] + 2.0 * R)) / (r + R);
+  return sl_sky_altitude_round(R, p);
 }
 
 /* Rayleigh volume scattering coefficient of standard air at sea level (m^-1), Bodhaine et al.

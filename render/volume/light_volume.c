@@ -333,6 +333,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
   const sl_camera *cam = f->cam;
   sl_image *img = f->img;
   const sun_table *suntab = f->suntab;
+  const sl__sun_lane sun_lane = sl__sun_table_lane(suntab);
   const sl_phase_table *grid_table = f->grid_table;
   const double *fwd = f->fwd, *right = f->right, *up = f->up;
   const double tan_half = f->tan_half, aspect = f->aspect, h_center = f->h_center, f_o = f->f_o;
@@ -447,7 +448,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
           b_n[i] = 0.5 * (p_state[nwl][k0] + p_state[nwl][k1]);
           double sunlight[SL_MAX_WAVELENGTHS];
           const double x[3] = {o[0] + b_tm[i] * d[0], o[1] + b_tm[i] * d[1], o[2] + b_tm[i] * d[2]};
-          sl__sun_at(suntab, x, sunlight);
+          sl__sun_at(suntab, &sun_lane, x, sunlight);
           for (int c = 0; c < nwl; ++c) b_sun[c][i] = sunlight[c];
         }
         for (int c = 0; c <= nwl; ++c) carried[c] = p_state[c][b_end[live - 1]];

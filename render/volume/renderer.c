@@ -482,7 +482,7 @@ static inline int *tiles_active(const tile_ranges *t, int k, int *count)
   int *list = t->active + (size_t)omp_get_thread_num() * n, c = 0;
   for (size_t i = 0; i < n; ++i) {
     list[c] = (int)i;
-    c += k >= t->k[2 * i] && k <= t->k[2 * i + 1];
+    c += k >= t->k[2 * i] && k <= __atomic_load_n(&t->k[2 * i + 1], __ATOMIC_RELAXED);
   }
   *count = c;
   return list;
@@ -623,38 +623,46 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
   return cnt;
 }
 
-/* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at x's projection; stride
- * is L->stride, given apart so that the specialised passes unroll the channels (as a call with
- * the stride read from L it took a tenth of the slicer's time). */
-static inline __attribute__((always_inline)) void light_lookup(const light_buffer *L, const int stride,
-                                                               const double x[3], double *out)
+/* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at a point's projection,
+ * in two steps for the eye pass's loops over a batch of samples: first per sample its texel and
+ * weights (light_texel_lane), then per channel the lerps (light_bilinear_lane), each a loop without
+ * branches (the buffer's one-texel axes are selections) whose loads are gathers. */
+typedef struct light_lattice {
+  double a[3], b[3], amin, bmin, inv_texel_a, inv_texel_b, last_a, last_b;
+  int w, h, top_i, top_j;
+  ptrdiff_t di, dj, stride;
+} light_lattice;
+
+static void light_lattice_init(light_lattice *ll, const light_buffer *L)
 {
-  double fa = (sl__dot3(L->a, x) - L->amin) * L->inv_texel_a - 0.5;
-  double fb = (sl__dot3(L->b, x) - L->bmin) * L->inv_texel_b - 0.5;
-  fa = fa < 0.0 ? 0.0 : fa > L->w - 1 ? L->w - 1 : fa;
-  fb = fb < 0.0 ? 0.0 : fb > L->h - 1 ? L->h - 1 : fb;
+  for (int k = 0; k < 3; ++k) ll->a[k] = L->a[k], ll->b[k] = L->b[k];
+  ll->amin = L->amin, ll->bmin = L->bmin, ll->inv_texel_a = L->inv_texel_a, ll->inv_texel_b = L->inv_texel_b;
+  ll->w = L->w, ll->h = L->h, ll->last_a = L->w - 1, ll->last_b = L->h - 1;
+  ll->top_i = L->w > 1 ? L->w - 2 : 0, ll->top_j = L->h > 1 ? L->h - 2 : 0;
+  ll->stride = L->stride, ll->di = L->w > 1 ? L->stride : 0, ll->dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
+}
+
+static inline __attribute__((always_inline)) void light_texel_lane(const light_lattice *ll, const double x[3],
+                                                                   ptrdiff_t *texel, double *u, double *v)
+{
+  double fa = (ll->a[0] * x[0] + ll->a[1] * x[1] + ll->a[2] * x[2] - ll->amin) * ll->inv_texel_a - 0.5;
+  double fb = (ll->b[0] * x[0] + ll->b[1] * x[1] + ll->b[2] * x[2] - ll->bmin) * ll->inv_texel_b - 0.5;
+  fa = sl__min(sl__max(fa, 0.0), ll->last_a);
+  fb = sl__min(sl__max(fb, 0.0), ll->last_b);
   int i = (int)fa, j = (int)fb;
-  if (i > L->w - 2) i = L->w > 1 ? L->w - 2 : 0;
-  if (j > L->h - 2) j = L->h > 1 ? L->h - 2 : 0;
-  const double u = L->w > 1 ? fa - i : 0.0, v = L->h > 1 ? fb - j : 0.0;
-  const size_t di = L->w > 1 ? (size_t)stride : 0;
-  const size_t dj = L->h > 1 ? (size_t)L->w * stride : 0;
-  const float *t = L->state + ((size_t)j * L->w + i) * stride;
-  if (stride == 4) {
-    /* Three wavelengths and n: a texel's state is one 4-float vector, lerped at once as the
-     * fields' corners are (sl__trilinear_v4f). */
-    const float fu = (float)u, fv = (float)v;
-    const sl__v4f r0 = sl__load_v4f(t) + fu * (sl__load_v4f(t + di) - sl__load_v4f(t));
-    const sl__v4f r1 = sl__load_v4f(t + dj) + fu * (sl__load_v4f(t + dj + di) - sl__load_v4f(t + dj));
-    const sl__v4f value = r0 + fv * (r1 - r0);
-    for (int c = 0; c < 4; ++c) out[c] = value[c];
-    return;
-  }
-  for (int c = 0; c < stride; ++c) {
-    const double r0 = t[c] + u * (t[di + c] - t[c]);
-    const double r1 = t[dj + c] + u * (t[dj + di + c] - t[dj + c]);
-    out[c] = r0 + v * (r1 - r0);
-  }
+  i = i < ll->top_i ? i : ll->top_i;
+  j = j < ll->top_j ? j : ll->top_j;
+  *u = ll->w > 1 ? fa - i : 0.0;
+  *v = ll->h > 1 ? fb - j : 0.0;
+  *texel = ((ptrdiff_t)j * ll->w + i) * ll->stride;
+}
+
+static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, const light_lattice *ll,
+                                                                        ptrdiff_t t, double u, double v)
+{
+  const double r0 = st[t] + u * (st[t + ll->di] - st[t]);
+  const double r1 = st[t + ll->dj] + u * (st[t + ll->dj + ll->di] - st[t + ll->dj]);
+  return r0 + v * (r1 - r0);
 }
 
 /* The light steps of one tile's samples in a slice, collected first so that the loop over them
@@ -813,6 +821,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   const sl_sky_view *view = f->view;
   const sun_table *suntab = f->suntab;
   const light_buffer L = *f->L;
+  light_lattice ll;
+  light_lattice_init(&ll, &L);
+  const sl__sun_lane sun_lane = sl__sun_table_lane(suntab);
   tile_ranges eye_tiles = *f->eye_tiles, light_tiles = *f->light_tiles;
   float *acc = f->acc;
   double *ray = f->ray;
@@ -837,6 +848,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   double b_l1[SL_MAX_WAVELENGTHS][EYE_BATCH], b_source[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double b_radiance[SL_MAX_WAVELENGTHS][EYE_BATCH];
   float b_fields[EYE_BATCH][SL_MAX_FIELDS];
+  double b_mid[EYE_BATCH], b_n_far[EYE_BATCH], b_tu[2][EYE_BATCH], b_tv[2][EYE_BATCH], b_sun_frac[EYE_BATCH];
+  ptrdiff_t b_texel[2][EYE_BATCH];
+  int b_sun_row[EYE_BATCH];
   double b_n[EYE_BATCH], b_probe[EYE_BATCH], b_path_mid[EYE_BATCH], b_sun[SL_MAX_WAVELENGTHS][EYE_BATCH];
   int b_angle_index[EYE_BATCH];
   double b_angle_weight[EYE_BATCH];
@@ -931,6 +945,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         sl__field_cell cells[TILE * TILE];
         const sl_grid_view *g = &r->beta_view;
         const int tx1 = tx0 + TILE < img->width ? tx0 + TILE : img->width;
+        int tile_last = k; /* the last slice any of the tile's rays still wants */
         for (int py = ty0; py < ty0 + TILE && py < img->height; ++py) {
           /* The row's pixels whose span holds this slice (most do not: a scalar test each), then
            * their segments and lattice cells as a vector loop (gathers), then bricks per sample. */
@@ -940,6 +955,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
             const size_t q = row + px;
             active[n] = px;
             n += k >= pk[2 * q] && k <= pk[2 * q + 1];
+            tile_last = pk[2 * q + 1] > tile_last ? pk[2 * q + 1] : tile_last;
           }
           if (!n) continue;
           row_lattice rl;
@@ -967,66 +983,99 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
          * (scalar: they gather from tables); the exponentials and moments of every sample and
          * wavelength at once (one vector loop over the samples, no branch, libmvec's exp); the accumulation into the pixels. */
         for (int si = 0; si < cnt;) {
+        /* First per sample its fields and parts (scalar: a sample's parts vary); the batch holds
+         * each part's pixel, middle, length, fields and extinction. */
         int live = 0;
         for (; si < cnt && live <= EYE_BATCH - EYE_PARTS_MAX; ++si) {
-        const size_t q = (size_t)sq[si];
-        const double *rq = ray + q * RAY_STRIDE;
         const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
         double beta_mid = 0.0;
         for (int j = 0; j < nf; ++j) beta_mid += v[j];
         if (!(beta_mid > 0.0)) continue;
         const int parts = eye_parts(beta_mid * slen[si]);
+        if (parts == 1) {
+          for (int j = 0; j < nf; ++j) b_fields[live][j] = v[j];
+          b_q[live] = sq[si], b_mid[live] = smid[si], b_len[live] = slen[si], b_beta[live] = beta_mid;
+          live++;
+          continue;
+        }
+        const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
         for (int p = 0; p < parts; ++p) {
-        /* The parts in the order of compositing: nearest first, or farthest first back to front. */
-        const int part = back_to_front ? parts - 1 - p : p;
-        const double len = slen[si] / parts, mid = smid[si] + (part + 0.5 - 0.5 * parts) * len;
-        const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-        float *beta_j = b_fields[live];
-        if (parts == 1)
-          for (int j = 0; j < nf; ++j) beta_j[j] = v[j];
-        else
+          /* The parts in the order of compositing: nearest first, or farthest first back to front. */
+          const int part = back_to_front ? parts - 1 - p : p;
+          const double len = slen[si] / parts, mid = smid[si] + (part + 0.5 - 0.5 * parts) * len;
+          const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
+          float *beta_j = b_fields[live];
           sl__sample_fields_n(r, nf, x, beta_j);
-        double beta = 0.0;
-        for (int j = 0; j < nf; ++j) beta += beta_j[j];
-        if (!(beta > 0.0)) continue;
-        /* The light buffer holds the light up to this slab's first plane; from there the light
+          double beta = 0.0;
+          for (int j = 0; j < nf; ++j) beta += beta_j[j];
+          if (!(beta > 0.0)) continue;
+          b_q[live] = sq[si], b_mid[live] = mid, b_len[live] = len, b_beta[live] = beta;
+          live++;
+        }
+        }
+        /* Then per part its geometry, light-buffer values and sunlight, in one loop over the
+         * batch without branches, so that it vectorises (gathers from the rays, the light
+         * buffer and the sun table); as a scalar loop this was the eye pass's largest stage.
+         * The light buffer holds the light up to this slab's first plane; from there the light
          * crosses this slab's own medium for a path that grows linearly along the eye segment.
          * The buffer's ln I is taken linear between the segment's two ends and the slab's own
          * attenuation exponential in the path, so the gather has a closed form
-         * (sl_segment_scatter_moment_exp). */
-        const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
-        const double x_near[3] = {o[0] + t_near * rq[0], o[1] + t_near * rq[1], o[2] + t_near * rq[2]};
-        const double x_far[3] = {o[0] + t_far * rq[0], o[1] + t_far * rq[1], o[2] + t_far * rq[2]};
+         * (sl_segment_scatter_moment_exp). Within the slab, the light keeps fraction(path) of
+         * itself (eq. 24 or the plain transparency); its log, per metre of path, is the slab's
+         * effective extinction. The fraction is probed at the segment's middle path; its table
+         * look-ups wait for eye_batch_phases, its exponentials for eye_batch_radiance. */
         const double s_start = sk - 0.5 * ds;
-        const double path_near =
-            sl__max(sl__min((sl__dot3(h, x_near) - s_start) * inv_hp, sl__box_exit_distance(&sun_exit, x_near)), 0.0);
-        const double path_far =
-            sl__max(sl__min((sl__dot3(h, x_far) - s_start) * inv_hp, sl__box_exit_distance(&sun_exit, x_far)), 0.0);
-        const double inv_beta = 1.0 / beta;
-        double l0[SL_MAX_WAVELENGTHS + 1], l1[SL_MAX_WAVELENGTHS + 1], sunlight[SL_MAX_WAVELENGTHS];
-        light_lookup(&L, nwl + 1, x_near, l0);
-        light_lookup(&L, nwl + 1, x_far, l1);
-        /* Within the slab, the light keeps fraction(path) of itself (eq. 24 or the plain
-         * transparency); its log, per metre of path, is the slab's effective extinction. The
-         * fraction is probed at the segment's middle path; its table look-ups wait for the
-         * batch (eye_batch_phases), its exponentials too (eye_batch_radiance). */
-        const double path_mid = 0.5 * (path_near + path_far);
-        b_n[live] = 0.5 * (l0[nwl] + l1[nwl]);
-        b_path_mid[live] = path_mid;
-        b_probe[live] = sl__max(path_mid, 1e-3 * inv_beta);
-        b_angle_index[live] = angle_index[q], b_angle_weight[live] = angle_weight[q];
-        sl__sun_at(suntab, x, sunlight);
-        b_q[live] = (int)q;
-        b_beta[live] = beta, b_inv_beta[live] = inv_beta, b_len[live] = len, b_inv_len[live] = 1.0 / len;
-        b_inv_probe[live] = 1.0 / b_probe[live], b_path_near[live] = path_near;
-        b_light_rate[live] = (path_far - path_near) / len;
-        b_depth[live] = mid * sl__dot3(rq, fwd);
+#pragma GCC ivdep
+        for (int s = 0; s < live; ++s) {
+          const ptrdiff_t rq = (ptrdiff_t)b_q[s] * RAY_STRIDE;
+          const double d[3] = {ray[rq], ray[rq + 1], ray[rq + 2]};
+          const double mid = b_mid[s], len = b_len[s];
+          const double t_near = mid - 0.5 * len, t_far = mid + 0.5 * len;
+          const double x[3] = {o[0] + mid * d[0], o[1] + mid * d[1], o[2] + mid * d[2]};
+          const double x_near[3] = {o[0] + t_near * d[0], o[1] + t_near * d[1], o[2] + t_near * d[2]};
+          const double x_far[3] = {o[0] + t_far * d[0], o[1] + t_far * d[1], o[2] + t_far * d[2]};
+          const double path_near = sl__max(
+              sl__min((h[0] * x_near[0] + h[1] * x_near[1] + h[2] * x_near[2] - s_start) * inv_hp,
+                      sl__box_exit_distance(&sun_exit, x_near)),
+              0.0);
+          const double path_far = sl__max(
+              sl__min((h[0] * x_far[0] + h[1] * x_far[1] + h[2] * x_far[2] - s_start) * inv_hp,
+                      sl__box_exit_distance(&sun_exit, x_far)),
+              0.0);
+          const double inv_beta = 1.0 / b_beta[s];
+          light_texel_lane(&ll, x_near, &b_texel[0][s], &b_tu[0][s], &b_tv[0][s]);
+          light_texel_lane(&ll, x_far, &b_texel[1][s], &b_tu[1][s], &b_tv[1][s]);
+          sl__sun_row(suntab, &sun_lane, x, &b_sun_row[s], &b_sun_frac[s]);
+          const double path_mid = 0.5 * (path_near + path_far);
+          b_path_mid[s] = path_mid;
+          const double probe = sl__max(path_mid, 1e-3 * inv_beta);
+          b_probe[s] = probe;
+          b_angle_index[s] = angle_index[b_q[s]], b_angle_weight[s] = angle_weight[b_q[s]];
+          b_inv_beta[s] = inv_beta, b_inv_len[s] = 1.0 / len;
+          b_inv_probe[s] = 1.0 / probe, b_path_near[s] = path_near;
+          b_light_rate[s] = (path_far - path_near) / len;
+          b_depth[s] = mid * (d[0] * fwd[0] + d[1] * fwd[1] + d[2] * fwd[2]);
+        }
+        /* The light buffer's channels and the sunlight, per channel a loop over the batch. */
+        for (int c = 0; c <= nwl; ++c) {
+          double *restrict out0 = c < nwl ? b_l0[c] : b_n, *restrict out1 = c < nwl ? b_l1[c] : b_n_far;
+          const float *restrict st = L.state + c;
+#pragma omp simd
+          for (int s = 0; s < live; ++s) {
+            out0[s] = light_bilinear_lane(st, &ll, b_texel[0][s], b_tu[0][s], b_tv[0][s]);
+            out1[s] = light_bilinear_lane(st, &ll, b_texel[1][s], b_tu[1][s], b_tv[1][s]);
+          }
+        }
+#pragma omp simd
+        for (int s = 0; s < live; ++s) b_n[s] = 0.5 * (b_n[s] + b_n_far[s]);
         for (int c = 0; c < nwl; ++c) {
-          b_l0[c][live] = l0[c], b_l1[c][live] = l1[c];
-          b_sun[c][live] = sunlight[c] * inv_beta;
-        }
-        live++;
-        }
+          double *restrict out = b_sun[c];
+          const double *restrict rgb = &suntab->rgb[0][0] + c;
+#pragma omp simd
+          for (int s = 0; s < live; ++s) {
+            const ptrdiff_t i = (ptrdiff_t)b_sun_row[s] * SL_MAX_WAVELENGTHS;
+            out[s] = (rgb[i] + b_sun_frac[s] * (rgb[i + SL_MAX_WAVELENGTHS] - rgb[i])) * b_inv_beta[s];
+          }
         }
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, live, b_fields, &held_model);
@@ -1054,6 +1103,12 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         }
         eye_tiles.work[(size_t)((k + 1) & 1) * eye_tiles.nx * eye_tiles.ny + ti] = tile_cost(tile_start, cnt);
+        /* Rays that have become opaque end their spans (below); a tile whose rays have all ended
+         * leaves the list from the next slice but one (this slice's end is seen in the next
+         * one's scan), where it took 256 failing tests per slice to the far side of the cloud.
+         * The new end is never below k: another thread may be listing slice k's tiles now, and
+         * k's membership stays as it was (tiles_active). */
+        if (tile_last < eye_tiles.k[2 * ti + 1]) __atomic_store_n(&eye_tiles.k[2 * ti + 1], tile_last, __ATOMIC_RELAXED);
       }
       /* The light pass rewrites the buffer the eye pass reads. */
 #pragma omp barrier

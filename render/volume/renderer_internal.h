@@ -60,23 +60,44 @@ void sl__cross3(const double a[3], const double b[3], double out[3]);
 int sl__normalize3(double v[3]);
 void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
                         const double hi[3]);
-/* The sunlight at world point x: the table at x's altitude (inline: the eye passes ask it per
- * sample). */
-static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t, const double x[3], double *out)
+/* The sun table's row and the fraction past it at world point x's altitude, with no branch: round
+ * (whether the ground is round, of radius R) and inv_dz (rows per metre, 0 for one row) are the
+ * caller's invariants (sl__sun_table_lane), so that the eye pass's loop over a batch vectorises. */
+typedef struct sl__sun_lane {
+  int round;
+  double R, inv_dz;
+} sl__sun_lane;
+
+static inline sl__sun_lane sl__sun_table_lane(const sun_table *t)
 {
-  const double z = t->atm ? sl_sky_altitude(t->atm, x, NULL) : x[2];
-  double u = t->dz > 0.0 ? (z - t->z0) / t->dz : 0.0;
+  sl__sun_lane s;
+  s.round = t->atm && t->atm->ground_radius > 0.0;
+  s.R = s.round ? t->atm->ground_radius : 0.0;
+  s.inv_dz = t->dz > 0.0 ? 1.0 / t->dz : 0.0;
+  return s;
+}
+
+static inline __attribute__((always_inline)) void sl__sun_row(const sun_table *t, const sl__sun_lane *s,
+                                                              const double x[3], int *row, double *frac)
+{
+  const double z = s->round ? sl_sky_altitude_round(s->R, x) : x[2];
+  double u = (z - t->z0) * s->inv_dz;
   u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
   int i = (int)u;
-  if (i > SUN_TABLE_SIZE - 2) i = SUN_TABLE_SIZE - 2;
-  const double f = u - i;
+  i = i < SUN_TABLE_SIZE - 2 ? i : SUN_TABLE_SIZE - 2;
+  *row = i, *frac = u - i;
+}
+
+/* The sunlight at world point x: the table at x's altitude (s: sl__sun_table_lane(t)). */
+static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t, const sl__sun_lane *s,
+                                                             const double x[3], double *out)
+{
+  int i;
+  double f;
+  sl__sun_row(t, s, x, &i, &f);
   for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
 }
 
-
-/* The larger and the smaller of two finite numbers, inline: without -ffinite-math-only GCC calls
- * libm's fmax and fmin (through the PLT), which the eye pass did five times per sample. A NaN
- * in a gives b, as fmax and fmin do. */
 static inline double sl__max(double a, double b) { return a > b ? a : b; }
 static inline double sl__min(double a, double b) { return a < b ? a : b; }
 
@@ -97,14 +118,15 @@ static inline void sl__box_exit_init(sl__box_exit *b, const double lo[3], const 
   }
 }
 
-static inline double sl__box_exit_distance(const sl__box_exit *b, const double x[3])
+/* Branch-free (an unused axis is a selection), so that the eye pass's loop over a batch of
+ * samples vectorises. */
+static inline __attribute__((always_inline)) double sl__box_exit_distance(const sl__box_exit *b, const double x[3])
 {
   double best = INFINITY;
-  for (int i = 0; i < 3; ++i)
-    if (b->axis_used[i]) {
-      const double t = (b->face[i] - x[i]) * b->inv_dir[i];
-      if (t < best) best = t;
-    }
+  for (int i = 0; i < 3; ++i) {
+    const double t = b->axis_used[i] ? (b->face[i] - x[i]) * b->inv_dir[i] : INFINITY;
+    best = t < best ? t : best;
+  }
   return best > 0.0 ? best : 0.0;
 }
 

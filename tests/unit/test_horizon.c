@@ -295,8 +295,9 @@ static void test_sun_at_altitude(const sl_atmosphere *base)
   for (double h = 500.0; h <= 14000.0; h += 500.0) {
     double at_origin[3] = {0, 0, h}, dropped[3], ef[SL_MAX_WAVELENGTHS], er[SL_MAX_WAVELENGTHS];
     on_sphere(3e5, h, dropped);
-    sl__sun_at(tf, at_origin, ef);
-    sl__sun_at(tr, dropped, er);
+    const sl__sun_lane lf = sl__sun_table_lane(tf), lr = sl__sun_table_lane(tr);
+    sl__sun_at(tf, &lf, at_origin, ef);
+    sl__sun_at(tr, &lr, dropped, er);
     for (int c = 0; c < base->count; ++c) {
       /* the two views' air masses agree: the eye is the same */
       const double want = base->sun_irradiance[c] * exp(-base->beta_sea_level[c] * H * exp(-h / H) * vf.airmass);
