@@ -625,43 +625,37 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
 
 /* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at a point's projection,
  * in two steps for the eye pass's loops over a batch of samples: first per sample its texel and
- * weights (light_texel_lane), then per channel the lerps (light_bilinear_lane), each a loop without
- * branches (the buffer's one-texel axes are selections) whose loads are gathers. */
-typedef struct light_lattice {
-  double a[3], b[3], amin, bmin, inv_texel_a, inv_texel_b, last_a, last_b;
-  int w, h, top_i, top_j;
-  ptrdiff_t di, dj, stride;
-} light_lattice;
-
-static void light_lattice_init(light_lattice *ll, const light_buffer *L)
-{
-  for (int k = 0; k < 3; ++k) ll->a[k] = L->a[k], ll->b[k] = L->b[k];
-  ll->amin = L->amin, ll->bmin = L->bmin, ll->inv_texel_a = L->inv_texel_a, ll->inv_texel_b = L->inv_texel_b;
-  ll->w = L->w, ll->h = L->h, ll->last_a = L->w - 1, ll->last_b = L->h - 1;
-  ll->top_i = L->w > 1 ? L->w - 2 : 0, ll->top_j = L->h > 1 ? L->h - 2 : 0;
-  ll->stride = L->stride, ll->di = L->w > 1 ? L->stride : 0, ll->dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
-}
-
-static inline __attribute__((always_inline)) void light_texel_lane(const light_lattice *ll, const double x[3],
+ * weights (light_texel_lane, no branch: the buffer's one-texel axes are selections, so the batch
+ * loop around it vectorises), then per channel the lerps (light_bilinear_lane; GCC 12 leaves that
+ * loop scalar: "no vectype" for its float gathers by 64-bit index). */
+static inline __attribute__((always_inline)) void light_texel_lane(const light_buffer *L, const double x[3],
                                                                    ptrdiff_t *texel, double *u, double *v)
 {
-  double fa = (ll->a[0] * x[0] + ll->a[1] * x[1] + ll->a[2] * x[2] - ll->amin) * ll->inv_texel_a - 0.5;
-  double fb = (ll->b[0] * x[0] + ll->b[1] * x[1] + ll->b[2] * x[2] - ll->bmin) * ll->inv_texel_b - 0.5;
-  fa = sl__min(sl__max(fa, 0.0), ll->last_a);
-  fb = sl__min(sl__max(fb, 0.0), ll->last_b);
+  double fa = (L->a[0] * x[0] + L->a[1] * x[1] + L->a[2] * x[2] - L->amin) * L->inv_texel_a - 0.5;
+  double fb = (L->b[0] * x[0] + L->b[1] * x[1] + L->b[2] * x[2] - L->bmin) * L->inv_texel_b - 0.5;
+  fa = sl__min(sl__max(fa, 0.0), (double)(L->w - 1));
+  fb = sl__min(sl__max(fb, 0.0), (double)(L->h - 1));
   int i = (int)fa, j = (int)fb;
-  i = i < ll->top_i ? i : ll->top_i;
-  j = j < ll->top_j ? j : ll->top_j;
-  *u = ll->w > 1 ? fa - i : 0.0;
-  *v = ll->h > 1 ? fb - j : 0.0;
-  *texel = ((ptrdiff_t)j * ll->w + i) * ll->stride;
+  const int top_i = L->w > 1 ? L->w - 2 : 0, top_j = L->h > 1 ? L->h - 2 : 0;
+  i = i < top_i ? i : top_i;
+  j = j < top_j ? j : top_j;
+  *u = L->w > 1 ? fa - i : 0.0;
+  *v = L->h > 1 ? fb - j : 0.0;
+  *texel = ((ptrdiff_t)j * L->w + i) * L->stride;
 }
 
-static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, const light_lattice *ll,
+/* The offsets of a texel's neighbours along a and b (di, dj), 0 along an axis of one texel. */
+static inline void light_texel_steps(const light_buffer *L, ptrdiff_t *di, ptrdiff_t *dj)
+{
+  *di = L->w > 1 ? L->stride : 0;
+  *dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
+}
+
+static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, ptrdiff_t di, ptrdiff_t dj,
                                                                         ptrdiff_t t, double u, double v)
 {
-  const double r0 = st[t] + u * (st[t + ll->di] - st[t]);
-  const double r1 = st[t + ll->dj] + u * (st[t + ll->dj + ll->di] - st[t + ll->dj]);
+  const double r0 = st[t] + u * (st[t + di] - st[t]);
+  const double r1 = st[t + dj] + u * (st[t + dj + di] - st[t + dj]);
   return r0 + v * (r1 - r0);
 }
 
@@ -821,9 +815,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   const sl_sky_view *view = f->view;
   const sun_table *suntab = f->suntab;
   const light_buffer L = *f->L;
-  light_lattice ll;
-  light_lattice_init(&ll, &L);
   const sl__sun_lane sun_lane = sl__sun_table_lane(suntab);
+  ptrdiff_t light_di, light_dj;
+  light_texel_steps(&L, &light_di, &light_dj);
   tile_ranges eye_tiles = *f->eye_tiles, light_tiles = *f->light_tiles;
   float *acc = f->acc;
   double *ray = f->ray;
@@ -979,9 +973,10 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           }
           cnt += found;
         }
-        /* Then in three loops: per sample its fields, light-buffer values and table look-ups
-         * (scalar: they gather from tables); the exponentials and moments of every sample and
-         * wavelength at once (one vector loop over the samples, no branch, libmvec's exp); the accumulation into the pixels. */
+        /* Then per batch: the samples' fields and parts, their geometry, light-buffer values and
+         * sunlight (vector loops, gathers), their table look-ups (eye_batch_phases), the
+         * exponentials and moments of every sample and wavelength at once (eye_batch_radiance,
+         * libmvec's exp), and the accumulation into the pixels. */
         for (int si = 0; si < cnt;) {
         /* First per sample its fields and parts (scalar: a sample's parts vary); the batch holds
          * each part's pixel, middle, length, fields and extinction. */
@@ -1043,8 +1038,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
                       sl__box_exit_distance(&sun_exit, x_far)),
               0.0);
           const double inv_beta = 1.0 / b_beta[s];
-          light_texel_lane(&ll, x_near, &b_texel[0][s], &b_tu[0][s], &b_tv[0][s]);
-          light_texel_lane(&ll, x_far, &b_texel[1][s], &b_tu[1][s], &b_tv[1][s]);
+          light_texel_lane(&L, x_near, &b_texel[0][s], &b_tu[0][s], &b_tv[0][s]);
+          light_texel_lane(&L, x_far, &b_texel[1][s], &b_tu[1][s], &b_tv[1][s]);
           sl__sun_row(suntab, &sun_lane, x, &b_sun_row[s], &b_sun_frac[s]);
           const double path_mid = 0.5 * (path_near + path_far);
           b_path_mid[s] = path_mid;
@@ -1056,14 +1051,14 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           b_light_rate[s] = (path_far - path_near) / len;
           b_depth[s] = mid * (d[0] * fwd[0] + d[1] * fwd[1] + d[2] * fwd[2]);
         }
-        /* The light buffer's channels and the sunlight, per channel a loop over the batch. */
+        /* The light buffer's channels and the sunlight, per channel a loop over the batch (the
+         * sunlight's vectorises). */
         for (int c = 0; c <= nwl; ++c) {
           double *restrict out0 = c < nwl ? b_l0[c] : b_n, *restrict out1 = c < nwl ? b_l1[c] : b_n_far;
           const float *restrict st = L.state + c;
-#pragma omp simd
           for (int s = 0; s < live; ++s) {
-            out0[s] = light_bilinear_lane(st, &ll, b_texel[0][s], b_tu[0][s], b_tv[0][s]);
-            out1[s] = light_bilinear_lane(st, &ll, b_texel[1][s], b_tu[1][s], b_tv[1][s]);
+            out0[s] = light_bilinear_lane(st, light_di, light_dj, b_texel[0][s], b_tu[0][s], b_tv[0][s]);
+            out1[s] = light_bilinear_lane(st, light_di, light_dj, b_texel[1][s], b_tu[1][s], b_tv[1][s]);
           }
         }
 #pragma omp simd

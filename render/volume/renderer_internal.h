@@ -98,6 +98,9 @@ static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t,
   for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
 }
 
+/* The larger and the smaller of two finite numbers, inline: without -ffinite-math-only GCC calls
+ * libm's fmax and fmin (through the PLT), which the eye pass did five times per sample. A NaN
+ * in a gives b, as fmax and fmin do. */
 static inline double sl__max(double a, double b) { return a > b ? a : b; }
 static inline double sl__min(double a, double b) { return a < b ? a : b; }
 
