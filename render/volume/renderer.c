@@ -269,6 +269,7 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r->fields); /* sl__huge_alloc's memory is posix_memalign's: free releases it */
   free(r->light_volume);
   free(r->empty_radius);
+  free(r->texel_spans.u_in), free(r->texel_spans.u_out), free(r->texel_spans.first), free(r->texel_spans.last);
   free(r);
 }
 
@@ -342,14 +343,16 @@ static double first_occupied(const sl_renderer *r, const double o[3], const doub
 {
   const sl_grid_view *g = &r->beta_view;
   int b[3], b_last[3], step[3];
-  double u0[3], du[3]; /* lattice coordinates at t0, and their change per unit of t */
+  double u0[3], du[3], inv_du[3]; /* lattice coordinates at t0, their change per unit of t and its
+                                     reciprocal (a division per axis and turn was a third of the walk) */
   const ptrdiff_t stride[3] = {1, r->bricks[0], (ptrdiff_t)r->bricks[0] * r->bricks[1]};
   for (int a = 0; a < 3; ++a) {
     u0[a] = (o[a] + t0 * d[a] - g->origin[a]) * g->inv_spacing[a];
     du[a] = d[a] * g->inv_spacing[a];
+    inv_du[a] = du[a] != 0.0 ? 1.0 / du[a] : 0.0;
     b_last[a] = sl__last_brick(g, a);
     const double cell = u0[a] < 0.0 ? 0.0 : floor(u0[a]);
-    b[a] = (int)sl__min(cell / 8.0, (double)b_last[a]);
+    b[a] = (int)sl__min(cell * 0.125, (double)b_last[a]);
     if (b[a] < 0) b[a] = 0;
     step[a] = du[a] > 0.0 ? 1 : du[a] < 0.0 ? -1 : 0;
   }
@@ -366,7 +369,7 @@ static double first_occupied(const sl_renderer *r, const double o[3], const doub
       if (!step[a]) continue;
       const int past = b[a] + step[a] * radius; /* the first brick beyond the cube */
       if (past < 0 || past > b_last[a]) continue;
-      const double ta = (8.0 * (step[a] > 0 ? past : past + 1) - u0[a]) / du[a];
+      const double ta = (8.0 * (step[a] > 0 ? past : past + 1) - u0[a]) * inv_du[a];
       if (ta < t_exit) t_exit = ta, exit_axis = a;
     }
     if (exit_axis < 0 || !(t0 + t_exit < t1)) return INFINITY;
@@ -377,7 +380,7 @@ static double first_occupied(const sl_renderer *r, const double o[3], const doub
       if (a == exit_axis) {
         b[a] += step[a] * radius;
       } else if (step[a]) {
-        const int at = (int)floor((u0[a] + t_exit * du[a]) / 8.0);
+        const int at = (int)floor((u0[a] + t_exit * du[a]) * 0.125);
         const int lo = step[a] > 0 ? b[a] : b[a] - (radius - 1) > 0 ? b[a] - (radius - 1) : 0;
         const int hi = step[a] < 0 ? b[a] : b[a] + (radius - 1) < b_last[a] ? b[a] + (radius - 1) : b_last[a];
         b[a] = at < lo ? lo : at > hi ? hi : at;
@@ -778,6 +781,38 @@ void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3
 }
 
 /* Everything a frame of the slicer needs once its buffers are set up. */
+/* Whether the kept texel spans are this frame's: the same sunlight and the same lattice. */
+static int texel_spans_hold(const sl__texel_spans *c, const double prop[3], const light_buffer *L)
+{
+  if (!c->valid || c->w != L->w || c->h != L->h) return 0;
+  for (int a = 0; a < 3; ++a)
+    if (c->prop[a] != prop[a] || c->a[a] != L->a[a] || c->b[a] != L->b[a]) return 0;
+  return c->amin == L->amin && c->bmin == L->bmin && c->texel_a == L->texel_a && c->texel_b == L->texel_b;
+}
+
+/* Makes room for L's texels and keys the spans to its lattice, not yet valid (the frame's set-up
+ * fills them, and the frame marks them valid when it has run). Returns 1 when out of memory. */
+static int texel_spans_prepare(sl__texel_spans *c, const double prop[3], const light_buffer *L)
+{
+  const size_t n = (size_t)L->w * L->h;
+  c->valid = 0;
+  if (n > c->capacity) {
+    free(c->u_in), free(c->u_out), free(c->first), free(c->last);
+    c->u_in = malloc(n * sizeof(float)), c->u_out = malloc(n * sizeof(float));
+    c->first = malloc(n * sizeof(double)), c->last = malloc(n * sizeof(double));
+    c->capacity = c->u_in && c->u_out && c->first && c->last ? n : 0;
+    if (!c->capacity) {
+      free(c->u_in), free(c->u_out), free(c->first), free(c->last);
+      c->u_in = c->u_out = NULL, c->first = c->last = NULL;
+      return 1;
+    }
+  }
+  for (int a = 0; a < 3; ++a) c->prop[a] = prop[a], c->a[a] = L->a[a], c->b[a] = L->b[a];
+  c->amin = L->amin, c->bmin = L->bmin, c->texel_a = L->texel_a, c->texel_b = L->texel_b;
+  c->w = L->w, c->h = L->h;
+  return 0;
+}
+
 typedef struct slicer_frame {
   sl_renderer *r;
   const sl_camera *cam;
@@ -795,6 +830,8 @@ typedef struct slicer_frame {
   double fwd[3], right[3], up[3], h[3], prop[3];
   sl__box_exit sun_exit;
   double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
+  double *texel_first, *texel_last; /* the texels' occupied stretches (sl__texel_spans) */
+  int spans_kept;                   /* 1: they and L's u_in, u_out hold this frame's (kept) */
   int nslices, back_to_front, wide_isa;
   long eye_samples, light_samples;
   double light_seconds, eye_seconds;
@@ -861,16 +898,20 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       st[nwl] = 0.0f;
       L.h_origin[t] = sl__dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
-      L.u_in[t] = L.u_out[t] = 0.0f; /* read (and discarded) by the light pass's vector set-up */
-      if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
-        L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
-        double first, last;
-        sl__occupied_span(r, origin, prop, u0, u1, &first, &last);
-        if (first <= last) {
-          const double s0 = L.h_origin[t] + first * hp, s1 = L.h_origin[t] + last * hp;
-          L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
-          L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
+      if (!f->spans_kept) {
+        /* u_in, u_out of a miss are read (and discarded) by the light pass's vector set-up. */
+        L.u_in[t] = L.u_out[t] = 0.0f;
+        f->texel_first[t] = 1.0, f->texel_last[t] = 0.0;
+        if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
+          L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
+          sl__occupied_span(r, origin, prop, u0, u1, &f->texel_first[t], &f->texel_last[t]);
         }
+      }
+      const double first = f->texel_first[t], last = f->texel_last[t];
+      if (first <= last) {
+        const double s0 = L.h_origin[t] + first * hp, s1 = L.h_origin[t] + last * hp;
+        L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
+        L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
       }
     }
 #pragma omp for schedule(static)
@@ -1315,9 +1356,13 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const int acc_stride = nwl + 2; /* radiance per wavelength, transparency, depth numerator */
   L.stride = nwl + 1;
   const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
+  const int spans_kept = texel_spans_hold(&r->texel_spans, prop, &L);
+  if (!spans_kept && texel_spans_prepare(&r->texel_spans, prop, &L)) {
+    free(suntab);
+    return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the light buffer");
+  }
+  L.u_in = r->texel_spans.u_in, L.u_out = r->texel_spans.u_out;
   L.state = malloc(nl * L.stride * sizeof(float));
-  L.u_in = malloc(nl * sizeof(float));
-  L.u_out = malloc(nl * sizeof(float));
   L.h_origin = malloc(nl * sizeof(double));
   L.k_lo = malloc(nl * sizeof(int));
   L.k_hi = malloc(nl * sizeof(int));
@@ -1332,9 +1377,9 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const int threads = omp_get_max_threads();
   const int tiles_ok =
       tiles_init(&eye_tiles, img->width, img->height, threads) && tiles_init(&light_tiles, L.w, L.h, threads);
-  if (!L.state || !L.u_in || !L.u_out || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk || !angle_index ||
-      !angle_weight || !tiles_ok) {
-    free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+  if (!L.state || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk || !angle_index || !angle_weight ||
+      !tiles_ok) {
+    free(L.state), free(L.h_origin), free(L.k_lo), free(L.k_hi);
     free(acc), free(ray), free(pk), free(suntab), free(angle_index), free(angle_weight);
     tiles_free(&eye_tiles), tiles_free(&light_tiles);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
@@ -1347,10 +1392,12 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
                     .eye_tiles = &eye_tiles, .light_tiles = &light_tiles, .acc = acc, .ray = ray, .pk = pk,
                     .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
                     .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
-                    .inv_hp = inv_hp, .smin = smin, .ds = ds, .nslices = nslices, .back_to_front = back_to_front};
+                    .inv_hp = inv_hp, .smin = smin, .ds = ds, .nslices = nslices, .back_to_front = back_to_front,
+                    .texel_first = r->texel_spans.first, .texel_last = r->texel_spans.last, .spans_kept = spans_kept};
   for (int a = 0; a < 3; ++a)
     f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a], f.h[a] = h[a], f.prop[a] = prop[a];
   slicer_run(&f);
+  r->texel_spans.valid = 1;
   const long eye_samples = f.eye_samples, light_samples = f.light_samples;
   const double light_seconds = f.light_seconds, eye_seconds = f.eye_seconds;
   if (stats) {
@@ -1365,7 +1412,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     stats->wide_isa = f.wide_isa;
   }
   free(suntab);
-  free(L.state), free(L.u_in), free(L.u_out), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+  free(L.state), free(L.h_origin), free(L.k_lo), free(L.k_hi);
   free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
   tiles_free(&eye_tiles), tiles_free(&light_tiles);
   return SL_OK;

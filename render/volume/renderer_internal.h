@@ -13,6 +13,21 @@
 /* Memory for a large grid, on huge pages where the system offers them (large_alloc.c); free(). */
 void *sl__huge_alloc(size_t bytes);
 
+/* The slicer's light-buffer texels' rays (parallel, along the sunlight) through the content box
+ * and the stretch of each that crosses occupied bricks, kept from the last frame: they depend on
+ * the sun and the texel lattice, not on the camera, and their walks were about 9 ms of a 0.21 s
+ * frame (docs/PERFORMANCE.md, session 16). A frame with the same sun and lattice (a camera path
+ * at a fixed distance, the same view again) reads them; any other recomputes them. The key is
+ * the lattice's exact numbers, so a kept frame is bitwise the frame it would have computed. */
+typedef struct sl__texel_spans {
+  int valid;             /* the arrays hold the spans of the key's lattice */
+  double prop[3], a[3], b[3], amin, bmin, texel_a, texel_b;
+  int w, h;              /* the arrays' lattice; their size is capacity texels */
+  size_t capacity;
+  float *u_in, *u_out;   /* each texel ray's interval in the content box (0, 0 when it misses) */
+  double *first, *last;  /* its occupied stretch within that (first > last: none) */
+} sl__texel_spans;
+
 struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
@@ -34,6 +49,7 @@ struct sl_renderer {
                                  jump the whole cube (sl__brick_empty_radius) */
   int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
+  sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   double light_volume_seconds;
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */

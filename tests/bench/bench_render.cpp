@@ -57,7 +57,9 @@ struct Timing {
   long eye_samples = 0, light_samples = 0;
 };
 
-Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep)
+// sun_moves: each frame under a sun 0.01 degree from the last one's, as in a time series, so that
+// nothing that depends on the sun is kept from the frame before (the slicer's light texels' spans).
+Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep, bool sun_moves = false)
 {
   sl_error err{};
   Timing t;
@@ -74,6 +76,14 @@ Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep)
   sl_image_alloc(&img, size, size, &err);
   for (int k = 0; k < repeat; ++k) {
     sl_render_stats st{};
+    if (sun_moves) {
+      double sun[3];
+      sl_sun_direction(35.0, 240.0 + 0.01 * (k + 1), sun);
+      if (sl_renderer_set_sun(r, sun, &err)) {
+        std::fprintf(stderr, "bench_render: %s\n", err.message);
+        std::exit(1);
+      }
+    }
     const double t0 = sl::now_seconds(), c0 = cpu_seconds();
     sl_renderer_render(r, &cam, &img, &st, &err);
     t.frame = std::min(t.frame, sl::now_seconds() - t0);
@@ -162,6 +172,7 @@ int main(int argc, char **argv)
     sl_lighting lighting;
     int spectral, size, slices, light_volume;
     int baseline_isa = 0;  // 1: the passes' baseline x86-64 copy even where AVX-512 is there
+    int sun_moves = 0;     // 1: a new sun every frame (time_frames)
   };
   std::vector<Case> cases = {{"low-albedo", SL_LIGHTING_LOW_ALBEDO, 0, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0},
@@ -169,7 +180,8 @@ int main(int argc, char **argv)
                              {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 768, 512, 0},
                              {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 768, 512, 0},
-                             {"3 wl, x86-64 base", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 1}};
+                             {"3 wl, x86-64 base", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 1},
+                             {"3 wl, sun moves", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1}};
   if (quick) cases.resize(3);
   if (!only.empty()) {
     // --only 2,3: the listed cases (1-based), for profiling one configuration.
@@ -182,7 +194,7 @@ int main(int argc, char **argv)
     }
     cases = keep_cases;
   }
-  double frame_512_ms = 0.0, lv_eye_ms = 0.0, base_512_ms = 0.0;
+  double frame_512_ms = 0.0, lv_eye_ms = 0.0, base_512_ms = 0.0, moving_sun_512_ms = 0.0;
   int wide_512 = 0;
   sl_image keep{}, keep_base{};
   std::printf("%-18s %9s %7s %12s %10s %10s %10s %8s\n", "lighting", "image", "slices", "light buffer", "light s",
@@ -200,9 +212,11 @@ int main(int argc, char **argv)
     sc.march_samples = march_samples;  // the light-volume rows' eye samples per cell (0: the default, 2)
     sc.baseline_isa = c.baseline_isa;
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
-    const bool slicer_512 = c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume;
-    const Timing t =
-        time_frames(sc, c.size, repeat, slicer_512 ? (c.baseline_isa ? &keep_base : &keep) : nullptr);
+    const bool slicer_512 =
+        c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume && !c.sun_moves;
+    const Timing t = time_frames(sc, c.size, repeat, slicer_512 ? (c.baseline_isa ? &keep_base : &keep) : nullptr,
+                                 c.sun_moves);
+    if (c.sun_moves) moving_sun_512_ms = 1e3 * t.frame;
     if (slicer_512 && !c.baseline_isa) frame_512_ms = 1e3 * t.frame, wide_512 = t.wide_isa;
     if (slicer_512 && c.baseline_isa) base_512_ms = 1e3 * t.frame;
     char image[32], buffer[32];
@@ -226,6 +240,9 @@ int main(int argc, char **argv)
                 wide_512 ? "AVX-512 copy" : "baseline (no AVX-512 here)", base_512_ms / frame_512_ms, im.relative_rmse,
                 im.max_abs_diff);
   }
+  if (moving_sun_512_ms > 0.0 && frame_512_ms > 0.0)
+    std::printf("ratio 3 wl frame, sun moving / sun kept (the light texels' spans kept from the frame before): %.3f\n",
+                moving_sun_512_ms / frame_512_ms);
   sl_image_free(&keep_base);
   t0 = sl::now_seconds();
   sl_write_exr("/tmp/bench_render.exr", &keep, SL_EXR_HALF, &err);

@@ -296,6 +296,58 @@ int main(void)
     sl_image_free(&img[0]);
     sl_image_free(&img[1]);
   }
+  /* The slicer keeps its light texels' rays and occupied stretches from frame to frame while the
+   * sun and the texel lattice stay (sl__texel_spans): a live renderer's frames (the same view
+   * again, a new sun, the first sun again from another side and then as at first) equal a fresh
+   * renderer's bitwise; a stale stretch under a new sun would skip these sparse voxels' bricks. */
+  {
+    const double frames[][4] = {{240.0, 35.0, 200.0, 12.0}, {240.0, 35.0, 200.0, 12.0}, {0.0, 90.0, 200.0, 12.0},
+                                {240.0, 35.0, 60.0, -20.0}, {240.0, 35.0, 200.0, 12.0}};
+    const int n_frames = (int)(sizeof frames / sizeof frames[0]);
+    sl_scene sc = {.volume = &sparse, .slices = 64, .lighting = SL_LIGHTING_MULTIPLE, .optics = optics, .xi = 0.01};
+    for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
+    sl_sun_vector(frames[0][0], frames[0][1], sc.sun_direction);
+    sl_renderer *live = sl_renderer_create(&sc, &err);
+    if (!CHECK(live != NULL)) return sl_test_finish("test_empty_space");
+    double lo[3], hi[3];
+    sl_volume_bounds(&sparse, lo, hi);
+    sl_image img[2];
+    sl_image_alloc(&img[0], 64, 48, &err);
+    sl_image_alloc(&img[1], 64, 48, &err);
+    for (int k = 0; k <= n_frames; ++k) {
+      /* The last turn repeats the last frame with its kept stretches spoiled (none crosses a
+       * brick), so that the frames above are known to have read them. */
+      const int spoil = k == n_frames;
+      const double *fr = frames[spoil ? n_frames - 1 : k];
+      sl_sun_vector(fr[0], fr[1], sc.sun_direction);
+      sl_camera cam;
+      sl_camera_frame(lo, hi, fr[2], fr[3], 40.0, 64, 48, &cam);
+      CHECK(sl_renderer_set_sun(live, sc.sun_direction, &err) == SL_OK);
+      if (spoil) {
+        CHECK_MSG(live->texel_spans.valid, "the slicer kept its texels' spans after a frame");
+        for (size_t t = 0; t < live->texel_spans.capacity; ++t) live->texel_spans.last[t] = -INFINITY;
+      }
+      CHECK(sl_renderer_render(live, &cam, &img[0], NULL, &err) == SL_OK);
+      sl_renderer *fresh = sl_renderer_create(&sc, &err);
+      if (!CHECK(fresh != NULL)) return sl_test_finish("test_empty_space");
+      CHECK(sl_renderer_render(fresh, &cam, &img[1], NULL, &err) == SL_OK);
+      sl_renderer_destroy(fresh);
+      double rel_rmse, rel_max;
+      difference(&img[1], &img[0], &rel_rmse, &rel_max);
+      char what[160];
+      if (spoil) {
+        snprintf(what, sizeof what, "spoiled kept spans change the frame, so frames read them (rmse %.2g)", rel_rmse);
+        CHECK_MSG(rel_rmse > 1e-3, what);
+      } else {
+        snprintf(what, sizeof what, "live renderer's frame %d equals a fresh renderer's (rmse %.2g, max %.2g)", k,
+                 rel_rmse, rel_max);
+        CHECK_MSG(rel_rmse == 0.0 && rel_max == 0.0, what);
+      }
+    }
+    sl_image_free(&img[0]);
+    sl_image_free(&img[1]);
+    sl_renderer_destroy(live);
+  }
   sl_optics_free(optics);
   sl_volume_free(&sparse);
   sl_volume_free(&faint);
