@@ -96,7 +96,9 @@ typedef struct sl_renderer sl_renderer;
 
 sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err);
 void sl_renderer_destroy(sl_renderer *r);
-/* img must be allocated at camera->width x camera->height. */
+/* img must be allocated at camera->width x camera->height. A renderer keeps what depends on the
+ * sun but not on the camera from frame to frame (the cached light volume, the slicer's light
+ * texels' rays): one thread at a time per renderer. */
 int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, sl_render_stats *stats,
                        sl_error *err);
 
