@@ -780,7 +780,6 @@ void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3
   sl__normalize3(d);
 }
 
-/* Everything a frame of the slicer needs once its buffers are set up. */
 /* Whether the kept texel spans are this frame's: the same sunlight and the same lattice. */
 static int texel_spans_hold(const sl__texel_spans *c, const double prop[3], const light_buffer *L)
 {
@@ -813,6 +812,7 @@ static int texel_spans_prepare(sl__texel_spans *c, const double prop[3], const l
   return 0;
 }
 
+/* Everything a frame of the slicer needs once its buffers are set up. */
 typedef struct slicer_frame {
   sl_renderer *r;
   const sl_camera *cam;
