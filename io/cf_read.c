@@ -323,7 +323,9 @@ static void cf_projected_centre(const sl_nc *f, const cf_layout *L, const sl_sto
 /* Times from a CF time coordinate "<unit> since <date>" in its calendar (CF 4.4.1; climate
  * models count in noleap or 360_day years, and read as Gregorian their dates drift by weeks);
  * CM1's bare "seconds" stays index-only, and so does a calendar this reader does not know (the
- * render then asks for a date). */
+ * render then asks for a date). So do "months" and "years since": UDUNITS makes them mean
+ * months and years (30.44 and 365.24 days), whose multiples land at arbitrary hours, and the
+ * sun cannot be placed from a monthly or yearly time anyway. */
 static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
   int id;
