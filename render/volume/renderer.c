@@ -1106,12 +1106,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         for (int s = 0; s < live; ++s) b_n[s] = 0.5 * (b_n[s] + b_n_far[s]);
         for (int c = 0; c < nwl; ++c) {
           double *restrict out = b_sun[c];
-          const double *restrict rgb = &suntab->rgb[0][0] + c;
+          const double *restrict rgb = &suntab->rgb[0][0];
 #pragma omp simd
-          for (int s = 0; s < live; ++s) {
-            const ptrdiff_t i = (ptrdiff_t)b_sun_row[s] * SL_MAX_WAVELENGTHS;
-            out[s] = (rgb[i] + b_sun_frac[s] * (rgb[i + SL_MAX_WAVELENGTHS] - rgb[i])) * b_inv_beta[s];
-          }
+          for (int s = 0; s < live; ++s) out[s] = sl__sun_lerp(rgb, b_sun_row[s], b_sun_frac[s], c) * b_inv_beta[s];
         }
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, live, b_fields, &held_model);

@@ -49,8 +49,8 @@ struct sl_renderer {
                                  jump the whole cube (sl__brick_empty_radius) */
   int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
-  sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   double light_volume_seconds;
+  sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */
   double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
@@ -104,6 +104,14 @@ static inline __attribute__((always_inline)) void sl__sun_row(const sun_table *t
   *row = i, *frac = u - i;
 }
 
+/* The table's sunlight at wavelength c, a fraction frac past row (sl__sun_row); rgb is the table's
+ * first value, flat (rows SL_MAX_WAVELENGTHS apart), so that a loop over samples gathers from it. */
+static inline __attribute__((always_inline)) double sl__sun_lerp(const double *rgb, int row, double frac, int c)
+{
+  const ptrdiff_t i = (ptrdiff_t)row * SL_MAX_WAVELENGTHS + c;
+  return rgb[i] + frac * (rgb[i + SL_MAX_WAVELENGTHS] - rgb[i]);
+}
+
 /* The sunlight at world point x: the table at x's altitude (s: sl__sun_table_lane(t)). */
 static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t, const sl__sun_lane *s,
                                                              const double x[3], double *out)
@@ -111,7 +119,7 @@ static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t,
   int i;
   double f;
   sl__sun_row(t, s, x, &i, &f);
-  for (int c = 0; c < t->nwl; ++c) out[c] = t->rgb[i][c] + f * (t->rgb[i + 1][c] - t->rgb[i][c]);
+  for (int c = 0; c < t->nwl; ++c) out[c] = sl__sun_lerp(&t->rgb[0][0], i, f, c);
 }
 
 /* The larger and the smaller of two finite numbers, inline: without -ffinite-math-only GCC calls
