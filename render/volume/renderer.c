@@ -751,9 +751,13 @@ static inline __attribute__((always_inline)) void eye_batch_radiance(
        * slices as a hatch), times the slab's own attenuation. */
       const double decay = (a0[s] - a1[s]) * inv_len[s];
       const double rate = 1.0 + (slab_extinction * light_rate[s] + decay) * inv_beta[s];
-      const double e = exp(-beta[s] * rate * len[s]);
-      const double m0 = sl_segment_scatter_moment_exp(0, beta[s], len[s], rate, e);
-      const double gathered = exp(a0[s] - slab_extinction * path_near[s]) * m0;
+      /* The light entering at the near end, and that times e^-x (x = beta rate len) as one
+       * exponential: the log of the far end's light times the segment's transparency, never above
+       * 0, where e^-x alone overflows when the light grows by hundreds of e-folds along a thick
+       * segment (sl_segment_scatter_moment_scaled). */
+      const double near = a0[s] - slab_extinction * path_near[s];
+      const double gathered = sl_segment_scatter_moment_scaled(0, beta[s], len[s], rate, exp(near),
+                                                               exp(near - beta[s] * rate * len[s]));
       out[s] = gathered * src[s];
     }
   }

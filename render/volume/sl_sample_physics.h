@@ -264,14 +264,19 @@ SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
   return SL_INT(sl_ceil(span / max_step - 1e-3));
 }
 
-/* One of sl_segment_scatter_moments_exp's two moments (which = 0 or 1), as a value: a loop over
- * samples that stores a moment through an array does not vectorise (GCC 12 will not if-convert
- * it), one that takes the values does. Near x = beta rate len = 0 the Taylor series to x^6
- * (truncation below 2e-9): the closed form of the second moment cancels to second order there,
- * which in float costs 1e-3 of relative accuracy already at x = 1e-2. Both forms are computed,
- * each where it stays finite (the series at 0 and the closed form at 1 where the other is
- * used), and blended by a 0/1 weight: no branch, so that the CPU's batch loop vectorises. */
-SL_INLINE SL_REAL sl_segment_scatter_moment_exp(int which, SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL e)
+/* One of sl_segment_scatter_moments_exp's two moments (which = 0 or 1) times a scale s, given s
+ * and s e with e = exp(-beta rate len): the caller forms s e as one exponential, so that a rate far
+ * below 0 (light that grows by hundreds of e-folds along the segment, from a shadowed near end to
+ * a lit far one) does not overflow e while s underflows to 0 (inf times 0: NaN pixels, seen in
+ * thick slabs at a low sun). As a value: a loop over samples that stores a moment through an
+ * array does not vectorise (GCC 12 will not if-convert it), one that takes the values does. Near
+ * x = beta rate len = 0 the Taylor series to x^6 (truncation below 2e-9): the closed form of the
+ * second moment cancels to second order there, which in float costs 1e-3 of relative accuracy
+ * already at x = 1e-2. Both forms are computed, each where it stays finite (the series at 0 and
+ * the closed form at 1 where the other is used), and blended by a 0/1 weight: no branch, so that
+ * the CPU's batch loop vectorises. */
+SL_INLINE SL_REAL sl_segment_scatter_moment_scaled(int which, SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL s,
+                                                   SL_REAL se)
 {
   SL_REAL x = beta * rate * len;
   SL_REAL taylor = x * x < 0.0625 ? 1.0 : 0.0;
@@ -281,13 +286,19 @@ SL_INLINE SL_REAL sl_segment_scatter_moment_exp(int which, SL_REAL beta, SL_REAL
   if (which == 0) {
     series = 1.0 - xt * (1.0 / 2.0 - xt * (1.0 / 6.0 - xt * (1.0 / 24.0 - xt * (1.0 / 120.0 -
                                                                    xt * (1.0 / 720.0 - xt * (1.0 / 5040.0))))));
-    closed = (1.0 - e) / xs;
+    closed = (s - se) / xs;
   } else {
     series = 0.5 - xt * (1.0 / 3.0 - xt * (1.0 / 8.0 - xt * (1.0 / 30.0 - xt * (1.0 / 144.0 -
                                                                    xt * (1.0 / 840.0 - xt * (1.0 / 5760.0))))));
-    closed = (1.0 - e * (1.0 + xs)) / (xs * xs);
+    closed = (s - se * (1.0 + xs)) / (xs * xs);
   }
-  return beta * len * (taylor * series + (1.0 - taylor) * closed);
+  return beta * len * (taylor * s * series + (1.0 - taylor) * closed);
+}
+
+/* The moment itself (s = 1): e = exp(-beta rate len) given. */
+SL_INLINE SL_REAL sl_segment_scatter_moment_exp(int which, SL_REAL beta, SL_REAL len, SL_REAL rate, SL_REAL e)
+{
+  return sl_segment_scatter_moment_scaled(which, beta, len, rate, 1.0, e);
 }
 
 /* Single scattering over one eye segment of length len with constant extinction beta, when the
