@@ -270,6 +270,7 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r->light_volume);
   free(r->empty_radius);
   free(r->texel_spans.u_in), free(r->texel_spans.u_out), free(r->texel_spans.first), free(r->texel_spans.last);
+  free(r->texel_spans.u_entry);
   free(r);
 }
 
@@ -447,7 +448,14 @@ typedef struct light_buffer {
                           exponential), the eye gather wants the log-linear slope, and bilinear
                           interpolation of ln I keeps an exponential fall-off exact */
   float *u_in, *u_out; /* each texel ray's interval in the box */
+  const float *u_entry; /* where each texel ray enters the medium (sl__texel_spans; NaN: never) */
   double *h_origin;    /* h . (texel ray origin) */
+  /* The kink at a cloud's surface (light_kink): per texel its entry as g = h_origin / hp + u_entry,
+   * so that a texel's ray has run e = s / hp - g into the medium at the slice plane s (NaN: never);
+   * per texel cell (the texel and its neighbours along +a and +b) the least and largest g of its
+   * corners, NaN excluded; per texel the state (as state) where its ray entered. */
+  double *entry_g, *cell_gmin, *cell_gmax;
+  float *entry_state;
   int *k_lo, *k_hi;    /* slices a texel ray crosses */
 } light_buffer;
 
@@ -662,6 +670,154 @@ static inline __attribute__((always_inline)) double light_bilinear_lane(const fl
   return r0 + v * (r1 - r0);
 }
 
+/* The sun's elevation (degrees) below which the slicer places the light's kink at surfaces
+ * (light_kink): flat tops under a low sun are where texel rows meet a surface kilometres apart. */
+#define KINK_SUN_ELEVATION 15.0
+/* Texel widths that a cell's entries must spread over along the rays for light_kink. */
+#define KINK_SPREAD 4.0
+/* The least difference in ln I or n between a cell's texels for light_kink. */
+#define KINK_MIN_FALL 0.25f
+
+/* The light at a cloud's surface between light texels. Where a flat top meets the sunlight at a
+ * grazing angle, one texel row's ray runs just above the top (ln I = 0) while the next entered it
+ * kilometres upwind and has lost tens of optical depths; ln I interpolated between them put the
+ * surface's light anywhere between the two, one stripe per row (Katrina's lid at dawn,
+ * DESIGN-NOTES.md), and the light of a top whose density ramps up over one grid level is decided
+ * within the first texel row's spacing. Each texel knows where its ray entered the medium
+ * (texel_entry) and the state there; the distance e its ray has run inside since is linear across
+ * texels under a planar surface, so its bilinear interpolation e* is exact where that of ln I is
+ * not. Where a cell's texels straddle the entry (some e > 0, some e <= 0), or have all entered but
+ * the nearest less than the cell's spread of entries ago (past a ramped top ln I is not yet linear
+ * in e there), the point's light is rebuilt from its own entry: the texels' states at entry
+ * interpolated (the ones not yet in give their current state, which has not changed since the
+ * sunlight came in), and when e* > 0 the light steps (eq. 24, eq. 21) along the last e* of its ray
+ * to the plane, sampled every half grid cell at their middles (exact for extinction linear along
+ * the ray, as a top's ramp between two levels is). A texel whose ray never enters is left out of
+ * the interpolations. Only in cells marked grazing (slicer_passes), under a low sun.
+ * Replaces value[c], c <= nwl, the bilinear state at (u, v) in the cell whose first texel's state
+ * is at t, for the point p on the slice plane where a ray has run e_plane - g; returns 0 (value
+ * untouched) where none of its texels has entered. */
+static inline __attribute__((always_inline)) int light_kink(const sl_renderer *r, const int nf, const int nwl,
+                                                            const light_buffer *L, ptrdiff_t di, ptrdiff_t dj,
+                                                            ptrdiff_t t, double u, double v, double e_plane,
+                                                            const double p[3], const double prop[3], double step,
+                                                            double *value)
+{
+  const int stride = nwl + 1;
+  const ptrdiff_t off[4] = {t, t + di, t + dj, t + di + dj};
+  const double w[4] = {(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v};
+  double e[4], inside = 0.0, outside = 0.0, known = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    e[k] = e_plane - L->entry_g[off[k] / stride];
+    if (e[k] > 0.0) inside += w[k] * e[k];
+    else if (e[k] <= 0.0) outside += w[k] * e[k];
+    known += e[k] == e[k] ? w[k] : 0.0;
+  }
+  if (!(inside > 0.0)) return 0;
+  /* Where ln I and n differ little between the texels, their interpolation cannot be far off (at
+   * most that difference, at a kink) and is kept: an optically thin medium's. */
+  float lo = INFINITY, hi = -INFINITY, n_lo = INFINITY, n_hi = -INFINITY;
+  for (int k = 0; k < 4; ++k)
+    if (e[k] == e[k]) {
+      lo = fminf(lo, L->state[off[k]]), hi = fmaxf(hi, L->state[off[k]]);
+      n_lo = fminf(n_lo, L->state[off[k] + nwl]), n_hi = fmaxf(n_hi, L->state[off[k] + nwl]);
+    }
+  if (!(hi - lo > KINK_MIN_FALL || n_hi - n_lo > KINK_MIN_FALL)) return 0;
+  /* The weights over the texels whose rays enter: one that never does (it passes above a top or
+   * beside a wall) says nothing of where a point with medium in the cell entered. */
+  const double renorm = 1.0 / known;
+  inside *= renorm, outside *= renorm;
+  float state[SL_MAX_WAVELENGTHS + 1];
+  for (int c = 0; c < stride; ++c) {
+    double at_entry = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      if (e[k] != e[k]) continue;
+      /* A texel past its entry whose step there was not taken (no medium at its middle) has kept
+       * no entry state: its state is still the one at entry. */
+      const int kept = e[k] > 0.0 && L->entry_state[off[k] + stride - 1] >= 0.0f;
+      at_entry += w[k] * (kept ? L->entry_state[off[k] + c] : L->state[off[k] + c]);
+    }
+    state[c] = (float)(at_entry * renorm);
+  }
+  const double e_star = inside + outside;
+  if (e_star > 0.0) {
+    const double parts = ceil(e_star / step);
+    const int n = parts < 1.0 ? 1 : parts > 16.0 ? 16 : (int)parts;
+    const double len = e_star / n;
+    const sl_light_model *m = &r->model;
+    for (int i = 0; i < n; ++i) {
+      const double back = e_star - (i + 0.5) * len;
+      const double x[3] = {p[0] - back * prop[0], p[1] - back * prop[1], p[2] - back * prop[2]};
+      float bj[SL_MAX_FIELDS];
+      if (!sl__sample_fields_n(r, nf, x, bj)) continue;
+      if (m->mode == SL_LIGHTING_MULTIPLE) sl_log_light_step_at(m, SL_LIGHTING_MULTIPLE, nf, nwl, bj, len, state, 0);
+      else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
+        sl_log_light_step_at(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, bj, len, state, 0);
+      else sl_log_light_step_at(m, (int)m->mode, nf, nwl, bj, len, state, 0);
+      /* Past e^-80 in every wavelength no light is left to shape (the n of no light is moot). */
+      int lit = 0;
+      for (int c = 0; c < nwl; ++c) lit |= state[c] > -80.0f;
+      if (!lit) break;
+    }
+  }
+  for (int c = 0; c < stride; ++c) value[c] = state[c];
+  return 1;
+}
+
+/* The total extinction at o + u d. */
+static inline __attribute__((always_inline)) double ray_extinction(const sl_renderer *r, const int nf,
+                                                                   const double o[3], const double d[3], double u)
+{
+  const double x[3] = {o[0] + u * d[0], o[1] + u * d[1], o[2] + u * d[2]};
+  float bj[SL_MAX_FIELDS];
+  sl__sample_fields_n(r, nf, x, bj);
+  double beta = 0.0;
+  for (int j = 0; j < nf; ++j) beta += bj[j];
+  return beta;
+}
+
+/* Where a light texel's ray o + u prop enters the medium: where its optical depth from `first`
+ * (its first occupied brick; every sample before is zero) reaches SL__ENTRY_DEPTH; NaN when it
+ * does not by `last`. Trapezoids one grid cell long, then the step that crosses in sixteen, then
+ * within that sixteenth the extinction taken linear: a sixteenth of a cell is where a flat top
+ * under a grazing sun is placed (Katrina's lid: 190 m along the ray, 14 m in height, against
+ * texel rows 2.9 km apart along it). */
+static inline __attribute__((always_inline)) double texel_entry(const sl_renderer *r, const int nf, const double o[3],
+                                                                const double prop[3], double first, double last,
+                                                                double step)
+{
+  double u = first, tau = 0.0;
+  double beta_u = ray_extinction(r, nf, o, prop, u);
+  while (u < last) {
+    const double u_next = u + step < last ? u + step : last;
+    const double beta_next = ray_extinction(r, nf, o, prop, u_next);
+    const double dtau = 0.5 * (beta_u + beta_next) * (u_next - u);
+    if (tau + dtau >= SL__ENTRY_DEPTH) {
+      const double h = (u_next - u) / 16.0;
+      double a = u, beta_a = beta_u;
+      for (int i = 1; i <= 16; ++i) {
+        const double b = i == 16 ? u_next : u + i * h;
+        double beta_b = beta_next;
+        if (i < 16) beta_b = ray_extinction(r, nf, o, prop, b);
+        const double d = 0.5 * (beta_a + beta_b) * (b - a);
+        if (tau + d >= SL__ENTRY_DEPTH || i == 16) {
+          /* tau + beta_a s + (beta_b - beta_a) s^2 / (2 (b - a)) = SL__ENTRY_DEPTH, the root in
+           * [0, b - a] in the form without cancellation. */
+          const double need = SL__ENTRY_DEPTH - tau, q = (beta_b - beta_a) / (2.0 * (b - a));
+          const double disc = beta_a * beta_a + 4.0 * q * need;
+          const double den = beta_a + sqrt(disc > 0.0 ? disc : 0.0);
+          double s = den > 0.0 ? 2.0 * need / den : b - a;
+          s = s < 0.0 ? 0.0 : s > b - a ? b - a : s;
+          return a + s;
+        }
+        tau += d, a = b, beta_a = beta_b;
+      }
+    }
+    tau += dtau, u = u_next, beta_u = beta_next;
+  }
+  return NAN;
+}
+
 /* The light steps of one tile's samples in a slice, collected first so that the loop over them
  * vectorises: sample i is texel idx[i], chord seg[i], per-field extinction bj[i]. The texels of a
  * tile are distinct, so the iterations are independent (ivdep). */
@@ -800,13 +956,14 @@ static int texel_spans_prepare(sl__texel_spans *c, const double prop[3], const l
   const size_t n = (size_t)L->w * L->h;
   c->valid = 0;
   if (n > c->capacity) {
-    free(c->u_in), free(c->u_out), free(c->first), free(c->last);
+    free(c->u_in), free(c->u_out), free(c->first), free(c->last), free(c->u_entry);
     c->u_in = malloc(n * sizeof(float)), c->u_out = malloc(n * sizeof(float));
     c->first = malloc(n * sizeof(double)), c->last = malloc(n * sizeof(double));
-    c->capacity = c->u_in && c->u_out && c->first && c->last ? n : 0;
+    c->u_entry = malloc(n * sizeof(float));
+    c->capacity = c->u_in && c->u_out && c->first && c->last && c->u_entry ? n : 0;
     if (!c->capacity) {
-      free(c->u_in), free(c->u_out), free(c->first), free(c->last);
-      c->u_in = c->u_out = NULL, c->first = c->last = NULL;
+      free(c->u_in), free(c->u_out), free(c->first), free(c->last), free(c->u_entry);
+      c->u_in = c->u_out = c->u_entry = NULL, c->first = c->last = NULL;
       return 1;
     }
   }
@@ -835,6 +992,9 @@ typedef struct slicer_frame {
   sl__box_exit sun_exit;
   double tan_half, aspect, h_o, hp, inv_hp, smin, ds;
   double *texel_first, *texel_last; /* the texels' occupied stretches (sl__texel_spans) */
+  float *texel_entry;               /* and where they enter the medium */
+  double entry_step;                /* texel_entry's step: a grid cell along the sunlight */
+  int kink;                         /* light_kink on (a low sun), with the arrays it needs */
   int spans_kept;                   /* 1: they and L's u_in, u_out hold this frame's (kept) */
   int nslices, back_to_front, wide_isa;
   long eye_samples, light_samples;
@@ -870,6 +1030,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   const sl__box_exit sun_exit = f->sun_exit;
   const double tan_half = f->tan_half, aspect = f->aspect, h_o = f->h_o, hp = f->hp, inv_hp = f->inv_hp;
   const double smin = f->smin, ds = f->ds;
+  const double kink_step = 0.5 * f->entry_step; /* light_kink's light steps */
+  const int kink = f->kink;
   const int nslices = f->nslices, back_to_front = f->back_to_front;
   const int acc_stride = nwl + 2;
   const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
@@ -891,7 +1053,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
   double b_angle_weight[EYE_BATCH];
 
   {
-#pragma omp for schedule(static)
+    /* Dynamic: a texel's entry march (texel_entry) runs from a few samples to its whole ray. */
+#pragma omp for schedule(dynamic, 256)
     for (size_t t = 0; t < nl; ++t) {
       const int i = (int)(t % L.w), j = (int)(t / L.w);
       const double ca = L.amin + (i + 0.5) * L.texel_a, cb = L.bmin + (j + 0.5) * L.texel_b;
@@ -906,10 +1069,18 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         /* u_in, u_out of a miss are read (and discarded) by the light pass's vector set-up. */
         L.u_in[t] = L.u_out[t] = 0.0f;
         f->texel_first[t] = 1.0, f->texel_last[t] = 0.0;
+        f->texel_entry[t] = NAN;
         if (sl_ray_box(r->clo, r->chi, origin, prop, &u0, &u1)) {
           L.u_in[t] = (float)u0, L.u_out[t] = (float)u1;
           sl__occupied_span(r, origin, prop, u0, u1, &f->texel_first[t], &f->texel_last[t]);
+          if (kink && f->texel_first[t] <= f->texel_last[t])
+            f->texel_entry[t] =
+                (float)texel_entry(r, nf, origin, prop, f->texel_first[t], f->texel_last[t], f->entry_step);
         }
+      }
+      if (kink) {
+        L.entry_g[t] = L.h_origin[t] * inv_hp + f->texel_entry[t];
+        L.entry_state[t * L.stride + nwl] = -1.0f; /* not kept yet (n is never negative) */
       }
       const double first = f->texel_first[t], last = f->texel_last[t];
       if (first <= last) {
@@ -917,6 +1088,27 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         L.k_lo[t] = (int)floor((s0 - smin) / ds) - 1;
         L.k_hi[t] = (int)floor((s1 - smin) / ds) + 1;
       }
+    }
+    /* Each texel cell's least and largest entry (light_kink): a slice plane lies between them
+     * where some of its corners have entered the medium and some have not yet. */
+#pragma omp for schedule(static)
+    for (size_t t = 0; t < (kink ? nl : 0); ++t) {
+      const int i = (int)(t % L.w), j = (int)(t / L.w);
+      const int i1 = i + 1 < L.w ? i + 1 : i, j1 = j + 1 < L.h ? j + 1 : j;
+      const double g[4] = {L.entry_g[t], L.entry_g[(size_t)j * L.w + i1], L.entry_g[(size_t)j1 * L.w + i],
+                           L.entry_g[(size_t)j1 * L.w + i1]};
+      double lo = INFINITY, hi = -INFINITY;
+      for (int k = 0; k < 4; ++k)
+        if (g[k] == g[k]) lo = g[k] < lo ? g[k] : lo, hi = g[k] > hi ? g[k] : hi;
+      /* Only where the surface meets the sunlight at a grazing angle (neighbouring entries more
+       * than KINK_SPREAD texel widths apart along the rays, an angle below 14 degrees): a surface
+       * more across the sunlight is crossed within a few texels of its rows, which the texel size
+       * resolves (light_texel_resolving). fmax passes over a NaN (a ray that never enters). */
+      const double spread_a = fmax(fabs(g[1] - g[0]), fabs(g[3] - g[2]));
+      const double spread_b = fmax(fabs(g[2] - g[0]), fabs(g[3] - g[1]));
+      if (!(spread_a > KINK_SPREAD * L.texel_a || spread_b > KINK_SPREAD * L.texel_b))
+        lo = INFINITY, hi = -INFINITY;
+      L.cell_gmin[t] = lo, L.cell_gmax[t] = hi;
     }
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
@@ -1106,6 +1298,26 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
             out1[s] = light_bilinear_lane(st, light_di, light_dj, b_texel[1][s], b_tu[1][s], b_tv[1][s]);
           }
         }
+        /* Where an end's texels meet a cloud's surface at a grazing angle, its light from its own
+         * entry (light_kink). */
+        const double e_plane = s_start * inv_hp;
+        for (int s = 0; s < (kink ? live : 0); ++s)
+          for (int end = 0; end < 2; ++end) {
+            const ptrdiff_t cell = b_texel[end][s] / (nwl + 1);
+            const double gmin = L.cell_gmin[cell], gmax = L.cell_gmax[cell];
+            if (!(gmin < e_plane && e_plane < 2.0 * gmax - gmin)) continue;
+            const double *rq = ray + (size_t)b_q[s] * RAY_STRIDE;
+            const double te = b_mid[s] + (end ? 0.5 : -0.5) * b_len[s];
+            const double x[3] = {o[0] + te * rq[0], o[1] + te * rq[1], o[2] + te * rq[2]};
+            const double back = (h[0] * x[0] + h[1] * x[1] + h[2] * x[2] - s_start) * inv_hp;
+            const double p[3] = {x[0] - back * prop[0], x[1] - back * prop[1], x[2] - back * prop[2]};
+            double value[SL_MAX_WAVELENGTHS + 1];
+            if (!light_kink(r, nf, nwl, &L, light_di, light_dj, b_texel[end][s], b_tu[end][s], b_tv[end][s],
+                            e_plane, p, prop, kink_step, value))
+              continue;
+            for (int c = 0; c < nwl; ++c) (end ? b_l1 : b_l0)[c][s] = value[c];
+            (end ? b_n_far : b_n)[s] = value[nwl];
+          }
 #pragma omp simd
         for (int s = 0; s < live; ++s) b_n[s] = 0.5 * (b_n[s] + b_n_far[s]);
         for (int c = 0; c < nwl; ++c) {
@@ -1164,7 +1376,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         const int tx0 = (int)(ti % light_tiles.nx) * TILE, ty0 = (int)(ti / light_tiles.nx) * TILE;
         int cnt = 0;
         int idx[TILE * TILE];
-        double seg[TILE * TILE];
+        double seg[TILE * TILE], seg_end[TILE * TILE];
         float bj[TILE * TILE][SL_MAX_FIELDS];
         sl__field_cell cells[TILE * TILE];
         /* The tile's cells first, prefetched (per row, row_lattice); then their fields, whose
@@ -1181,13 +1393,14 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           const size_t row = (size_t)ty * L.w + tx0;
           const double cb = L.bmin + (ty + 0.5) * L.texel_b;
           row_lattice rl;
-          double len_of[TILE];
+          double len_of[TILE], end_of[TILE];
           int lanes[TILE];
 #pragma GCC ivdep
           for (int i = 0; i < tx1 - tx0; ++i) {
             const size_t t = row + i;
             double mid;
             const int crosses = clip_segment((sk - h_origin[t]) * inv_hp, half, u_in[t], u_out[t], &mid, &len_of[i]);
+            end_of[i] = mid + 0.5 * len_of[i];
             rl.take[i] = (k >= k_lo[t]) & (k <= k_hi[t]) & crosses;
             const double ca = amin + (tx0 + i + 0.5) * texel_a;
             const double x[3] = {ca * la[0] + cb * lb[0] + mid * prop[0], ca * la[1] + cb * lb[1] + mid * prop[1],
@@ -1195,7 +1408,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
             row_lattice_set(&rl, i, g, x);
           }
           const int found = row_cells(r, nf, &rl, tx1 - tx0, &light_samples, lanes, cells + cnt);
-          for (int s = 0; s < found; ++s) idx[cnt + s] = (int)(row + lanes[s]), seg[cnt + s] = len_of[lanes[s]];
+          for (int s = 0; s < found; ++s)
+            idx[cnt + s] = (int)(row + lanes[s]), seg[cnt + s] = len_of[lanes[s]], seg_end[cnt + s] = end_of[lanes[s]];
           cnt += found;
         }
         int live = 0;
@@ -1204,13 +1418,20 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           double beta = 0.0;
           for (int f = 0; f < nf; ++f) beta += v[f];
           if (!(beta > 0.0)) continue;
-          idx[live] = idx[i], seg[live] = seg[i];
+          idx[live] = idx[i], seg[live] = seg[i], seg_end[live] = seg_end[i];
           for (int f = 0; f < nf; ++f) bj[live][f] = v[f];
           live++;
         }
         cnt = live;
         const sl_light_model *held_model = m;
         const int held = sl__batch_fields(f->subsets, nf, cnt, bj, &held_model);
+        /* The state where each ray enters the medium: before the first step it takes past that
+         * (steps not taken leave the state as it was, so it is the state at the entry). */
+        for (int i = 0; i < (kink ? cnt : 0); ++i) {
+          float *kept = L.entry_state + (size_t)idx[i] * L.stride;
+          if (seg_end[i] > L.u_entry[idx[i]] && kept[nwl] < 0.0f)
+            for (int c = 0; c <= nwl; ++c) kept[c] = L.state[(size_t)idx[i] * L.stride + c];
+        }
 #define LIGHT_STEPS(model, mode, count) light_steps(model, mode, count, nwl, cnt, idx, seg, bj, L.state, L.stride)
         SL_WITH_BATCH_MODEL(m, held_model, held, nf, LIGHT_STEPS);
 #undef LIGHT_STEPS
@@ -1362,8 +1583,17 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     free(suntab);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the light buffer");
   }
-  L.u_in = r->texel_spans.u_in, L.u_out = r->texel_spans.u_out;
+  L.u_in = r->texel_spans.u_in, L.u_out = r->texel_spans.u_out, L.u_entry = r->texel_spans.u_entry;
   L.state = malloc(nl * L.stride * sizeof(float));
+  /* The entry kink (light_kink) where flat tops meet the sunlight at a grazing angle: under a sun
+   * below KINK_SUN_ELEVATION. Where it runs it costs up to half an eye pass (docs/PERFORMANCE.md,
+   * session 17), which a higher sun's frames need not pay. */
+  const int kink = sun[2] < sin(KINK_SUN_ELEVATION * M_PI / 180.0);
+  if (kink) {
+    L.entry_state = malloc(nl * L.stride * sizeof(float));
+    L.entry_g = malloc(nl * sizeof(double));
+    L.cell_gmin = malloc(nl * sizeof(double)), L.cell_gmax = malloc(nl * sizeof(double));
+  }
   L.h_origin = malloc(nl * sizeof(double));
   L.k_lo = malloc(nl * sizeof(int));
   L.k_hi = malloc(nl * sizeof(int));
@@ -1378,9 +1608,11 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const int threads = omp_get_max_threads();
   const int tiles_ok =
       tiles_init(&eye_tiles, img->width, img->height, threads) && tiles_init(&light_tiles, L.w, L.h, threads);
-  if (!L.state || !L.h_origin || !L.k_lo || !L.k_hi || !acc || !ray || !pk || !angle_index || !angle_weight ||
-      !tiles_ok) {
+  const int kink_ok = !kink || (L.entry_state && L.entry_g && L.cell_gmin && L.cell_gmax);
+  if (!L.state || !L.h_origin || !L.k_lo || !L.k_hi || !kink_ok || !acc || !ray || !pk || !angle_index ||
+      !angle_weight || !tiles_ok) {
     free(L.state), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+    free(L.entry_state), free(L.entry_g), free(L.cell_gmin), free(L.cell_gmax);
     free(acc), free(ray), free(pk), free(suntab), free(angle_index), free(angle_weight);
     tiles_free(&eye_tiles), tiles_free(&light_tiles);
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the buffers");
@@ -1394,7 +1626,14 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
                     .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
                     .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
                     .inv_hp = inv_hp, .smin = smin, .ds = ds, .nslices = nslices, .back_to_front = back_to_front,
-                    .texel_first = r->texel_spans.first, .texel_last = r->texel_spans.last, .spans_kept = spans_kept};
+                    .texel_first = r->texel_spans.first, .texel_last = r->texel_spans.last,
+                    .texel_entry = r->texel_spans.u_entry, .spans_kept = spans_kept, .kink = kink};
+  /* The entry march's step: one grid cell along the sunlight (the shortest axis's crossing). */
+  f.entry_step = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    const int n_a = a == 0 ? r->shape.nx : a == 1 ? r->shape.ny : r->shape.nz;
+    if (n_a > 1 && fabs(prop[a]) > 1e-12) f.entry_step = fmin(f.entry_step, r->shape.spacing[a] / fabs(prop[a]));
+  }
   for (int a = 0; a < 3; ++a)
     f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a], f.h[a] = h[a], f.prop[a] = prop[a];
   slicer_run(&f);
@@ -1414,6 +1653,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   }
   free(suntab);
   free(L.state), free(L.h_origin), free(L.k_lo), free(L.k_hi);
+  free(L.entry_state), free(L.entry_g), free(L.cell_gmin), free(L.cell_gmax);
   free(acc), free(ray), free(pk), free(angle_index), free(angle_weight);
   tiles_free(&eye_tiles), tiles_free(&light_tiles);
   return SL_OK;

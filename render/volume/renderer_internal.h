@@ -19,6 +19,11 @@ void *sl__huge_alloc(size_t bytes);
  * frame (docs/PERFORMANCE.md, session 16). A frame with the same sun and lattice (a camera path
  * at a fixed distance, the same view again) reads them; any other recomputes them. The key is
  * the lattice's exact numbers, so a kept frame is bitwise the frame it would have computed. */
+/* The optical depth along a light texel's ray at which the medium counts as entered (u_entry
+ * below). Before it ln I and n change by at most this much, which bounds what the kink model of
+ * light_kink (renderer.c) can misplace where the medium thickens gradually (haze). */
+#define SL__ENTRY_DEPTH 0.01
+
 typedef struct sl__texel_spans {
   int valid;             /* the arrays hold the spans of the key's lattice */
   double prop[3], a[3], b[3], amin, bmin, texel_a, texel_b;
@@ -26,6 +31,9 @@ typedef struct sl__texel_spans {
   size_t capacity;
   float *u_in, *u_out;   /* each texel ray's interval in the content box (0, 0 when it misses) */
   double *first, *last;  /* its occupied stretch within that (first > last: none) */
+  float *u_entry;        /* where along it the medium begins: the optical depth from the box reaches
+                            SL__ENTRY_DEPTH there (NaN: never); the eye pass places the light's kink
+                            at a cloud's surface between texels by it (renderer.c, light_kink) */
 } sl__texel_spans;
 
 struct sl_renderer {
