@@ -750,10 +750,9 @@ static inline __attribute__((always_inline)) int light_kink(const sl_renderer *r
       const double x[3] = {p[0] - back * prop[0], p[1] - back * prop[1], p[2] - back * prop[2]};
       float bj[SL_MAX_FIELDS];
       if (!sl__sample_fields_n(r, nf, x, bj)) continue;
-      if (m->mode == SL_LIGHTING_MULTIPLE) sl_log_light_step_at(m, SL_LIGHTING_MULTIPLE, nf, nwl, bj, len, state, 0);
-      else if (m->mode == SL_LIGHTING_LOW_ALBEDO)
-        sl_log_light_step_at(m, SL_LIGHTING_LOW_ALBEDO, nf, nwl, bj, len, state, 0);
-      else sl_log_light_step_at(m, (int)m->mode, nf, nwl, bj, len, state, 0);
+#define KINK_STEP(model, mode, count) sl_log_light_step_at(model, mode, count, nwl, bj, len, state, 0)
+      SL_WITH_BATCH_MODEL(m, m, nf, nf, KINK_STEP);
+#undef KINK_STEP
       /* Past e^-80 in every wavelength no light is left to shape (the n of no light is moot). */
       int lit = 0;
       for (int c = 0; c < nwl; ++c) lit |= state[c] > -80.0f;
@@ -764,16 +763,11 @@ static inline __attribute__((always_inline)) int light_kink(const sl_renderer *r
   return 1;
 }
 
-/* The total extinction at o + u d. */
-static inline __attribute__((always_inline)) double ray_extinction(const sl_renderer *r, const int nf,
-                                                                   const double o[3], const double d[3], double u)
+/* The total extinction at o + u d (the renderer's total-extinction grid). */
+static double ray_extinction(const sl_renderer *r, const double o[3], const double d[3], double u)
 {
   const double x[3] = {o[0] + u * d[0], o[1] + u * d[1], o[2] + u * d[2]};
-  float bj[SL_MAX_FIELDS];
-  sl__sample_fields_n(r, nf, x, bj);
-  double beta = 0.0;
-  for (int j = 0; j < nf; ++j) beta += bj[j];
-  return beta;
+  return sl_grid_sample(&r->beta_view, x);
 }
 
 /* Where a light texel's ray o + u prop enters the medium: where its optical depth from `first`
@@ -782,15 +776,14 @@ static inline __attribute__((always_inline)) double ray_extinction(const sl_rend
  * within that sixteenth the extinction taken linear: a sixteenth of a cell is where a flat top
  * under a grazing sun is placed (Katrina's lid: 190 m along the ray, 14 m in height, against
  * texel rows 2.9 km apart along it). */
-static inline __attribute__((always_inline)) double texel_entry(const sl_renderer *r, const int nf, const double o[3],
-                                                                const double prop[3], double first, double last,
-                                                                double step)
+static double texel_entry(const sl_renderer *r, const double o[3], const double prop[3], double first, double last,
+                          double step)
 {
   double u = first, tau = 0.0;
-  double beta_u = ray_extinction(r, nf, o, prop, u);
+  double beta_u = ray_extinction(r, o, prop, u);
   while (u < last) {
     const double u_next = u + step < last ? u + step : last;
-    const double beta_next = ray_extinction(r, nf, o, prop, u_next);
+    const double beta_next = ray_extinction(r, o, prop, u_next);
     const double dtau = 0.5 * (beta_u + beta_next) * (u_next - u);
     if (tau + dtau >= SL__ENTRY_DEPTH) {
       const double h = (u_next - u) / 16.0;
@@ -798,7 +791,7 @@ static inline __attribute__((always_inline)) double texel_entry(const sl_rendere
       for (int i = 1; i <= 16; ++i) {
         const double b = i == 16 ? u_next : u + i * h;
         double beta_b = beta_next;
-        if (i < 16) beta_b = ray_extinction(r, nf, o, prop, b);
+        if (i < 16) beta_b = ray_extinction(r, o, prop, b);
         const double d = 0.5 * (beta_a + beta_b) * (b - a);
         if (tau + d >= SL__ENTRY_DEPTH || i == 16) {
           /* tau + beta_a s + (beta_b - beta_a) s^2 / (2 (b - a)) = SL__ENTRY_DEPTH, the root in
@@ -1075,7 +1068,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
           sl__occupied_span(r, origin, prop, u0, u1, &f->texel_first[t], &f->texel_last[t]);
           if (kink && f->texel_first[t] <= f->texel_last[t])
             f->texel_entry[t] =
-                (float)texel_entry(r, nf, origin, prop, f->texel_first[t], f->texel_last[t], f->entry_step);
+                (float)texel_entry(r, origin, prop, f->texel_first[t], f->texel_last[t], f->entry_step);
         }
       }
       if (kink) {
