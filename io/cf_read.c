@@ -28,6 +28,8 @@ typedef struct cf_layout {
   int flip[4];                  /* per slot: the coordinate decreases (north-to-south latitudes,
                                    levels from the top), so the reader reverses that axis */
   double lat0;                  /* degrees, for latitude-longitude grids */
+  double z_to_pa;               /* > 0: z is pressure levels (Pa per unit); heights then come from a
+                                   geopotential on the same grid */
 } cf_layout;
 
 static int coord_values(const sl_nc *f, const char *dim, size_t n, double *v, char *units, size_t ucap,
@@ -55,6 +57,54 @@ static double length_scale(const char *units)
 }
 
 static int is_degrees(const char *units) { return strncmp(units, "degree", 6) == 0; }
+
+/* What a variable measures, for its units. */
+typedef enum cf_quantity { CF_MASS_FRACTION, CF_PRESSURE, CF_TEMPERATURE, CF_DENSITY, CF_HEIGHT } cf_quantity;
+
+/* A units string without spaces, '*' and '^' (so "kg kg-1", "kg kg**-1" and "kg kg^-1" read alike). */
+static void cf_units_squeezed(const char *in, char *out, size_t cap)
+{
+  size_t n = 0;
+  for (; *in && n + 1 < cap; ++in)
+    if (*in != ' ' && *in != '*' && *in != '^') out[n++] = *in;
+  out[n] = '\0';
+}
+
+/* SI value = value * scale + offset for quantity q in `units`: 1 when known, 0 when not, -1 for
+ * an empty string (no units: read as SI). Geopotential (m2 s-2) reads as a height through WMO's
+ * standard gravity: geopotential height, as WRF's (PH+PHB)/g. */
+static int cf_unit_factor(cf_quantity q, const char *units, double *scale, double *offset)
+{
+  static const struct {
+    cf_quantity q;
+    const char *units;
+    double scale, offset;
+  } known[] = {
+      {CF_MASS_FRACTION, "kgkg-1", 1, 0},   {CF_MASS_FRACTION, "kg/kg", 1, 0},  {CF_MASS_FRACTION, "1", 1, 0},
+      {CF_MASS_FRACTION, "gkg-1", 1e-3, 0}, {CF_MASS_FRACTION, "g/kg", 1e-3, 0},
+      {CF_MASS_FRACTION, "g/g", 1, 0},      {CF_MASS_FRACTION, "gg-1", 1, 0},     {CF_PRESSURE, "Pa", 1, 0},
+      {CF_PRESSURE, "hPa", 100, 0},         {CF_PRESSURE, "mbar", 100, 0},        {CF_PRESSURE, "millibar", 100, 0},
+      {CF_PRESSURE, "millibars", 100, 0},   {CF_PRESSURE, "mb", 100, 0},          {CF_PRESSURE, "kPa", 1000, 0},
+      {CF_TEMPERATURE, "K", 1, 0},
+      {CF_TEMPERATURE, "kelvin", 1, 0},     {CF_TEMPERATURE, "degK", 1, 0},       {CF_TEMPERATURE, "deg_K", 1, 0},
+      {CF_TEMPERATURE, "degC", 1, 273.15},  {CF_TEMPERATURE, "deg_C", 1, 273.15}, {CF_TEMPERATURE, "celsius", 1, 273.15},
+      {CF_TEMPERATURE, "degree_Celsius", 1, 273.15}, {CF_TEMPERATURE, "degrees_Celsius", 1, 273.15},
+      {CF_DENSITY, "kgm-3", 1, 0},          {CF_DENSITY, "kg/m3", 1, 0},          {CF_DENSITY, "gm-3", 1e-3, 0},
+      {CF_DENSITY, "g/m3", 1e-3, 0},        {CF_HEIGHT, "m", 1, 0},               {CF_HEIGHT, "gpm", 1, 0},
+      {CF_HEIGHT, "meter", 1, 0},           {CF_HEIGHT, "meters", 1, 0},          {CF_HEIGHT, "metre", 1, 0},
+      {CF_HEIGHT, "metres", 1, 0},          {CF_HEIGHT, "km", 1000, 0},           {CF_HEIGHT, "m2s-2", 1 / 9.80665, 0},
+      {CF_HEIGHT, "m2/s2", 1 / 9.80665, 0},
+  };
+  char squeezed[128];
+  cf_units_squeezed(units, squeezed, sizeof squeezed);
+  if (!squeezed[0]) return -1;
+  for (size_t i = 0; i < sizeof known / sizeof known[0]; ++i)
+    if (known[i].q == q && strcasecmp(known[i].units, squeezed) == 0) {
+      *scale = known[i].scale, *offset = known[i].offset;
+      return 1;
+    }
+  return 0;
+}
 
 /* Horizontal spacing (m) of coordinate `dim`, uniform within 1 %. */
 static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int cm1, double *scale, double *spacing,
@@ -150,8 +200,8 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
   }
   if (info->nspecies == 0)
     return sl_fail(err, SL_ERR_FORMAT,
-                   "%s: no hydrometeor variables (not a WRF, CM1 or CF storm file: no QCLOUD..., qc..., or "
-                   "standard_name mass_fraction_of_..._in_air)",
+                   "%s: no hydrometeor variables (not a WRF, CM1 or CF storm file: no QCLOUD..., qc..., "
+                   "standard_name mass_fraction_of_..._in_air, or ECMWF clwc...)",
                    f->path);
   snprintf(L->ref, sizeof L->ref, "%s", info->species[0].variable);
   int varid, nd, dimids[NC_MAX_VAR_DIMS], unlimited = -1;
@@ -198,29 +248,34 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
       (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, &L->flip[2], err)))
     return rc;
   if (L->x_to_m == 0.0) L->dx *= cos(L->lat0 * M_PI / 180.0);
-  /* Vertical: a height (m or km, up); pressure or other vertical coordinates are not read. */
+  /* Vertical: a height (m or km, up), or pressure levels (their heights from a geopotential on the
+   * same grid, read at load); other vertical coordinates are not read. */
   char zunits[64] = "", zstd[128] = "", positive[16] = "";
   coord_values(f, L->coord[1], L->len[1], NULL, zunits, sizeof zunits, zstd, sizeof zstd);
   if (L->cm1 && !zunits[0]) snprintf(zunits, sizeof zunits, "km");
   int zid;
   if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
   L->z_to_m = length_scale(zunits);
-  if (strcasecmp(positive, "down") == 0)
+  double pa = 0.0, unused;
+  if (!L->cm1 && cf_unit_factor(CF_PRESSURE, zunits, &pa, &unused) == 1) L->z_to_pa = pa;
+  else if (!L->cm1 && strcmp(zstd, "air_pressure") == 0 && !zunits[0]) L->z_to_pa = 1.0;
+  if (L->z_to_pa == 0.0 && strcasecmp(positive, "down") == 0)
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' has positive = \"down\" (a depth): only heights, positive up, are read",
                    f->path, L->coord[1]);
-  if (!(L->z_to_m > 0.0))
+  if (!(L->z_to_m > 0.0) && L->z_to_pa == 0.0)
     return sl_fail(err, SL_ERR_FORMAT,
-                   "%s: vertical coordinate '%s' (units '%s') is not a height in m or km: only height levels are read",
+                   "%s: vertical coordinate '%s' (units '%s') is neither a height in m or km nor a pressure: only "
+                   "height and pressure levels are read",
                    f->path, L->coord[1], zunits);
-  /* Levels listed from the top down are read reversed. */
+  /* Levels listed from the top down (heights decreasing, pressures increasing) are read reversed. */
   if (L->len[1] > 1) {
     double ends[2];
     size_t first = 0, last = L->len[1] - 1;
     if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR && sl_nc_var_is_1d(f, zid, L->len[1], NULL) &&
         nc_get_var1_double(f->id, zid, &first, &ends[0]) == NC_NOERR &&
         nc_get_var1_double(f->id, zid, &last, &ends[1]) == NC_NOERR)
-      L->flip[1] = ends[1] < ends[0];
+      L->flip[1] = L->z_to_pa > 0.0 ? ends[1] > ends[0] : ends[1] < ends[0];
   }
   return SL_OK;
 }
@@ -372,7 +427,7 @@ int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   if (rc) return rc;
   info->kind = L.cm1 ? SL_STORM_CM1 : SL_STORM_CF;
   snprintf(info->scheme, sizeof info->scheme, "%s",
-           L.cm1 ? "CM1 (mixing ratios qc qr qi qs qg by name)" : "CF (hydrometeors by standard_name)");
+           L.cm1 ? "CM1 (mixing ratios qc qr qi qs qg by name)" : "CF (hydrometeors by standard_name or ECMWF short name)");
   info->nx = (int)L.len[3], info->ny = (int)L.len[2], info->nz = (int)L.len[1];
   info->ntimes = (int)L.len[0];
   if (info->ntimes > SL_MAX_TIMES)
@@ -396,23 +451,14 @@ typedef struct cf_levels {
   const sl_subset *s;
   int t;
   size_t n2;
-  double *z_iface;      /* interfaces of the whole column, m */
+  double *z_iface;      /* interfaces of the whole column, m (height levels) */
+  double *z_cols;       /* pressure levels: the subset's interfaces per column, [k][y][x], m */
+  double *p_level;      /* pressure levels: each subset level's pressure, Pa, from the bottom */
   sl_nc_var rho, p, temp, theta, qv;
   int have_rho, have_temp, have_theta, have_qv, qv_specific;
   sl_var_cache cache;
 } cf_levels;
 
-/* What a variable measures, for its units. */
-typedef enum cf_quantity { CF_MASS_FRACTION, CF_PRESSURE, CF_TEMPERATURE, CF_DENSITY } cf_quantity;
-
-/* A units string without spaces, '*' and '^' (so "kg kg-1", "kg kg**-1" and "kg kg^-1" read alike). */
-static void cf_units_squeezed(const char *in, char *out, size_t cap)
-{
-  size_t n = 0;
-  for (; *in && n + 1 < cap; ++in)
-    if (*in != ' ' && *in != '*' && *in != '^') out[n++] = *in;
-  out[n] = '\0';
-}
 
 /* Folds v's units into its unpacking (value = packed * scale + offset), so that reads give the SI
  * unit the reader computes in: kg/kg for mixing ratios and mass fractions, Pa, K, kg m-3. A CF
@@ -421,35 +467,18 @@ static void cf_units_squeezed(const char *in, char *out, size_t cap)
  * hand-made files omit it); units not known here are an error naming the variable. */
 static int cf_apply_units(const sl_nc *f, sl_nc_var *v, cf_quantity q, sl_error *err)
 {
-  static const struct {
-    cf_quantity q;
-    const char *units;
-    double scale, offset;
-  } known[] = {
-      {CF_MASS_FRACTION, "kgkg-1", 1, 0},   {CF_MASS_FRACTION, "kg/kg", 1, 0},  {CF_MASS_FRACTION, "1", 1, 0},
-      {CF_MASS_FRACTION, "gkg-1", 1e-3, 0}, {CF_MASS_FRACTION, "g/kg", 1e-3, 0},
-      {CF_MASS_FRACTION, "g/g", 1, 0},      {CF_MASS_FRACTION, "gg-1", 1, 0},     {CF_PRESSURE, "Pa", 1, 0},
-      {CF_PRESSURE, "hPa", 100, 0},         {CF_PRESSURE, "mbar", 100, 0},        {CF_PRESSURE, "millibar", 100, 0},
-      {CF_PRESSURE, "mb", 100, 0},          {CF_PRESSURE, "kPa", 1000, 0},        {CF_TEMPERATURE, "K", 1, 0},
-      {CF_TEMPERATURE, "kelvin", 1, 0},     {CF_TEMPERATURE, "degK", 1, 0},       {CF_TEMPERATURE, "deg_K", 1, 0},
-      {CF_TEMPERATURE, "degC", 1, 273.15},  {CF_TEMPERATURE, "deg_C", 1, 273.15}, {CF_TEMPERATURE, "celsius", 1, 273.15},
-      {CF_TEMPERATURE, "degree_Celsius", 1, 273.15}, {CF_TEMPERATURE, "degrees_Celsius", 1, 273.15},
-      {CF_DENSITY, "kgm-3", 1, 0},          {CF_DENSITY, "kg/m3", 1, 0},          {CF_DENSITY, "gm-3", 1e-3, 0},
-      {CF_DENSITY, "g/m3", 1e-3, 0},
-  };
-  static const char *const si[] = {"kg kg-1", "Pa", "K", "kg m-3"};
-  char units[128] = "", squeezed[128];
+  static const char *const si[] = {"kg kg-1", "Pa", "K", "kg m-3", "m"};
+  char units[128] = "";
+  double scale, offset;
   if (!sl_nc_attr_text(f, v->varid, "units", units, sizeof units)) return SL_OK;
-  cf_units_squeezed(units, squeezed, sizeof squeezed);
-  if (!squeezed[0]) return SL_OK;
-  for (size_t i = 0; i < sizeof known / sizeof known[0]; ++i)
-    if (known[i].q == q && strcasecmp(known[i].units, squeezed) == 0) {
-      v->offset = v->offset * known[i].scale + known[i].offset;
-      v->scale *= known[i].scale;
-      return SL_OK;
-    }
-  return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' has units '%s', which this reader cannot convert to %s",
-                 f->path, v->name, units, si[q]);
+  const int known = cf_unit_factor(q, units, &scale, &offset);
+  if (known < 0) return SL_OK;
+  if (!known)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: variable '%s' has units '%s', which this reader cannot convert to %s",
+                   f->path, v->name, units, si[q]);
+  v->offset = v->offset * scale + offset;
+  v->scale *= scale;
+  return SL_OK;
 }
 
 static int cf_var(cf_levels *c, const char *name, cf_quantity q, sl_nc_var *v, sl_error *err)
@@ -494,7 +523,9 @@ static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
   (void)err;
   cf_levels *c = ctx;
   for (int k = 0; k < nk; ++k)
-    for (size_t i = 0; i < c->n2; ++i) z[(size_t)k * c->n2 + i] = c->z_iface[c->s->k0 + k0 + k];
+    for (size_t i = 0; i < c->n2; ++i)
+      z[(size_t)k * c->n2 + i] =
+          c->z_cols ? c->z_cols[(size_t)(k0 + k) * c->n2 + i] : c->z_iface[c->s->k0 + k0 + k];
   return SL_OK;
 }
 
@@ -508,7 +539,8 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
   /* Temperature where the file has it (or potential temperature and pressure); without any, no
    * cell is below freezing (only split species need it, and those are refused without one). */
   if (!rc && (c->have_temp || c->have_theta)) rc = cf_block(c, c->have_temp ? &c->temp : &c->theta, temp, err);
-  if (!rc && !c->have_rho) rc = cf_block(c, &c->p, a, err);
+  if (!rc && !c->have_rho && !c->p_level) rc = cf_block(c, &c->p, a, err);
+  for (size_t i = 0; !rc && !c->have_rho && c->p_level && i < n; ++i) a[i] = (float)c->p_level[i / c->n2];
   if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
   for (size_t i = 0; !rc && i < n; ++i) {
     /* Small negative vapour is advection noise (clamped, as the hydrometeors are); beyond that,
@@ -622,6 +654,95 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   return SL_OK;
 }
 
+/* Pressure levels: each column's level heights from a geopotential (or geopotential height) on
+ * the same grid, its interfaces halfway between levels and the outer ones half a layer beyond, as
+ * for 1-D heights; each level's pressure from the coordinate. A column whose heights do not rise
+ * as the pressure falls is refused, naming it. Sets the subset's lowest and highest interface. */
+static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_error *err)
+{
+  const sl_nc *f = c->f;
+  const cf_layout *L = c->L;
+  const size_t n = L->len[1], n2 = c->n2, nz = (size_t)c->s->nz;
+  char name[NC_MAX_NAME + 1];
+  const int height = find_var(f, 0, "", "geopotential_height", name);
+  if (!height && !find_var(f, 0, "", "geopotential", name))
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: vertical coordinate '%s' is pressure: its heights need a variable with standard_name "
+                   "geopotential_height or geopotential on the same grid",
+                   f->path, L->coord[1]);
+  if (n < 2)
+    return sl_fail(err, SL_ERR_FORMAT, "%s: one pressure level has no thickness: a pressure grid needs two or more",
+                   f->path);
+  sl_nc_var geo;
+  int rc = cf_var(c, name, CF_HEIGHT, &geo, err);
+  if (rc) return rc;
+  char units[64] = "";
+  if (!height && !sl_nc_attr_text(f, geo.varid, "units", units, sizeof units))
+    geo.scale /= 9.80665, geo.offset /= 9.80665; /* geopotential without units: SI, m2 s-2 */
+  double *p = malloc(n * sizeof(double));
+  float *z = malloc(n * n2 * sizeof(float));
+  c->z_cols = malloc((nz + 1) * n2 * sizeof(double));
+  c->p_level = malloc(nz * sizeof(double));
+  if (!p || !z || !c->z_cols || !c->p_level) {
+    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+    goto done;
+  }
+  /* All levels (the subset's outer interfaces lie halfway to the levels beyond it). */
+  sl_subset all = *c->s;
+  all.k0 = 0, all.nz = (int)n;
+  cf_levels whole = *c;
+  whole.s = &all;
+  char pu[8], ps[8];
+  if (!coord_values(f, L->coord[1], n, p, pu, sizeof pu, ps, sizeof ps)) {
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the pressure levels", f->path,
+                 L->coord[1]);
+    goto done;
+  }
+  for (size_t k = 0; L->flip[1] && k < n / 2; ++k) {
+    const double t = p[k];
+    p[k] = p[n - 1 - k], p[n - 1 - k] = t;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    p[k] *= L->z_to_pa;
+    if (!(p[k] > 0.0 && p[k] < 2e5) || (k > 0 && !(p[k] < p[k - 1]))) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: pressure levels '%s' are not distinct pressures between 0 and 2000 hPa",
+                   f->path, L->coord[1]);
+      goto done;
+    }
+  }
+  if ((rc = cf_block(&whole, &geo, z, err))) goto done;
+  const int k0 = c->s->k0;
+  for (size_t i = 0; i < n2; ++i) {
+    for (size_t k = 1; k < n; ++k)
+      if (!(z[k * n2 + i] > z[(k - 1) * n2 + i])) {
+        rc = sl_fail(err, SL_ERR_DATA,
+                     "%s: '%s' does not rise from %g to %g Pa in column (%zu, %zu) at time %d (%g to %g m)", f->path,
+                     name, p[k - 1], p[k], i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t, z[(k - 1) * n2 + i],
+                     z[k * n2 + i]);
+        goto done;
+      }
+    const float *zc = z + i; /* this column's level heights, n2 apart */
+    for (size_t k = 0; k <= nz; ++k) {
+      const size_t kk = (size_t)k0 + k; /* interface kk lies below level kk */
+      c->z_cols[k * n2 + i] = kk == 0   ? 1.5 * zc[0] - 0.5 * zc[n2]
+                              : kk == n ? 1.5 * zc[(n - 1) * n2] - 0.5 * zc[(n - 2) * n2]
+                                        : 0.5 * ((double)zc[(kk - 1) * n2] + zc[kk * n2]);
+    }
+  }
+  *ground = INFINITY, *top = -INFINITY;
+  for (size_t i = 0; i < n2; ++i) *ground = fmin(*ground, c->z_cols[i]), *top = fmax(*top, c->z_cols[nz * n2 + i]);
+  if (!(*top <= 1e5) || !(*ground >= -1e4)) {
+    rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' spans %g to %g m, not an atmosphere (are its units right?)", f->path,
+                 name, *ground, *top);
+    goto done;
+  }
+  for (size_t k = 0; k < nz; ++k) c->p_level[k] = p[(size_t)k0 + k];
+done:
+  free(p);
+  free(z);
+  return rc;
+}
+
 int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
                int nspecies, sl_storm_frame *frame, sl_error *err)
 {
@@ -640,12 +761,18 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if (s.k0 < 0 || s.nz < 1 || s.k0 + s.nz > info->nz)
     return sl_fail(err, SL_ERR_ARG, "%s: --levels outside the file's %d levels", f->path, info->nz);
   cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny};
-  c.z_iface = malloc((L.len[1] + 1) * sizeof(double));
-  if (!c.z_iface) {
-    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
-    goto done;
+  double ground = 0.0, top = 0.0;
+  if (L.z_to_pa > 0.0) {
+    if ((rc = cf_pressure_levels(&c, &ground, &top, err))) goto done;
+  } else {
+    c.z_iface = malloc((L.len[1] + 1) * sizeof(double));
+    if (!c.z_iface) {
+      rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+      goto done;
+    }
+    if ((rc = cf_heights(f, &L, c.z_iface, err))) goto done;
+    ground = c.z_iface[s.k0], top = c.z_iface[s.k0 + s.nz];
   }
-  if ((rc = cf_heights(f, &L, c.z_iface, err))) goto done;
   /* Air: density itself, or pressure with temperature or potential temperature; vapour optional. */
   char name[NC_MAX_NAME + 1];
   if ((c.have_rho = find_var(f, 0, "", "air_density", name)) && (rc = cf_var(&c, name, CF_DENSITY, &c.rho, err))) goto done;
@@ -658,19 +785,21 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   } else if ((c.have_qv = c.qv_specific = find_var(f, 0, "", "specific_humidity", name))) {
     if ((rc = cf_var(&c, name, CF_MASS_FRACTION, &c.qv, err))) goto done;
   }
-  const int have_p = find_var(f, L.cm1, "prs", "air_pressure", name);
+  /* On pressure levels the pressure is the coordinate's. */
+  const int have_p = c.p_level || find_var(f, L.cm1, "prs", "air_pressure", name);
   if (!c.have_rho && (!have_p || (!c.have_temp && !c.have_theta))) {
     rc = sl_fail(err, SL_ERR_FORMAT, "%s: no air density: needs %s", f->path,
-                 L.cm1 ? "prs and th" : "air_density, or air_pressure with air_temperature or air_potential_temperature");
+                 L.cm1        ? "prs and th"
+                 : c.p_level ? "air_density, or air_temperature or air_potential_temperature on the pressure levels"
+                             : "air_density, or air_pressure with air_temperature or air_potential_temperature");
     goto done;
   }
-  if (!c.have_rho && (rc = cf_var(&c, name, CF_PRESSURE, &c.p, err))) goto done;
+  if (!c.have_rho && !c.p_level && (rc = cf_var(&c, name, CF_PRESSURE, &c.p, err))) goto done;
   for (int i = 0; i < nspecies; ++i)
     if (species[i].warm != species[i].cold && !c.have_temp && !c.have_theta) {
       rc = sl_fail(err, SL_ERR_FORMAT, "%s: splitting '%s' at 0 C needs a temperature", f->path, species[i].variable);
       goto done;
     }
-  const double ground = c.z_iface[s.k0], top = c.z_iface[s.k0 + s.nz];
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
   sl_level_reader r = {&c, cf_interfaces, cf_air, cf_field};
   if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz,
@@ -688,5 +817,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   frame->time_index = c.t;
 done:
   free(c.z_iface);
+  free(c.z_cols);
+  free(c.p_level);
   return rc;
 }

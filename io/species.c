@@ -35,18 +35,18 @@ static const struct {
  * 400 kg/m3, hail 1 cm at 900 kg/m3 (Pruppacher & Klett 2000, ch. 2; WSM6's graupel density is
  * 500, Thompson's 400, Milbrandt-Yau's hail 900). */
 typedef struct species_def {
-  const char *wrf, *wrf_number, *cm1, *standard_name, *kind;
+  const char *wrf, *wrf_number, *cm1, *standard_name, *ecmwf, *kind;
   int type;
   double radius_m, density_kg_m3; /* 0: the target type's own particle */
 } species_def;
 
 static const species_def SPECIES[] = {
-    {"QCLOUD", "QNCLOUD", "qc", "mass_fraction_of_cloud_liquid_water_in_air", "cloud water", SL_CLOUD, 0, 0},
-    {"QRAIN", "QNRAIN", "qr", "mass_fraction_of_rain_in_air", "rain", SL_RAIN, 0, 0},
-    {"QICE", "QNICE", "qi", "mass_fraction_of_cloud_ice_in_air", "cloud ice", SL_ICE, 0, 0},
-    {"QSNOW", "QNSNOW", "qs", "mass_fraction_of_snow_in_air", "snow", SL_SNOW, 0, 0},
-    {"QGRAUP", "QNGRAUPEL", "qg", "mass_fraction_of_graupel_in_air", "graupel", SL_SNOW, 1.0e-3, 400.0},
-    {"QHAIL", "QNHAIL", "qhl", "mass_fraction_of_hail_in_air", "hail", SL_SNOW, 5.0e-3, 900.0},
+    {"QCLOUD", "QNCLOUD", "qc", "mass_fraction_of_cloud_liquid_water_in_air", "clwc", "cloud water", SL_CLOUD, 0, 0},
+    {"QRAIN", "QNRAIN", "qr", "mass_fraction_of_rain_in_air", "crwc", "rain", SL_RAIN, 0, 0},
+    {"QICE", "QNICE", "qi", "mass_fraction_of_cloud_ice_in_air", "ciwc", "cloud ice", SL_ICE, 0, 0},
+    {"QSNOW", "QNSNOW", "qs", "mass_fraction_of_snow_in_air", "cswc", "snow", SL_SNOW, 0, 0},
+    {"QGRAUP", "QNGRAUPEL", "qg", "mass_fraction_of_graupel_in_air", NULL, "graupel", SL_SNOW, 1.0e-3, 400.0},
+    {"QHAIL", "QNHAIL", "qhl", "mass_fraction_of_hail_in_air", NULL, "hail", SL_SNOW, 5.0e-3, 900.0},
 };
 #define NDEF (int)(sizeof SPECIES / sizeof SPECIES[0])
 
@@ -88,12 +88,16 @@ void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info)
   }
 }
 
-/* CM1 names (qc, qr, ...) or CF standard names; used by cf_read.c. */
+/* CM1 names (qc, qr, ...) or CF standard names; used by cf_read.c. ECMWF's specific contents
+ * (ERA5, IFS: clwc, crwc, ciwc, cswc, per kg of moist air) have no CF standard name; they are
+ * taken by their short names where the variable claims no other (none, or cfgrib's "unknown"). */
 int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1, sl_species *sp)
 {
+  const int unnamed = !standard_name || !standard_name[0] || strcmp(standard_name, "unknown") == 0;
   for (int d = 0; d < NDEF; ++d) {
     const int hit = cm1 ? strcmp(var_name, SPECIES[d].cm1) == 0
-                        : standard_name && strcmp(standard_name, SPECIES[d].standard_name) == 0;
+                        : (standard_name && strcmp(standard_name, SPECIES[d].standard_name) == 0) ||
+                              (unnamed && SPECIES[d].ecmwf && strcmp(var_name, SPECIES[d].ecmwf) == 0);
     if (!hit) continue;
     species_from_def(&SPECIES[d], var_name, sp);
     sp->per_moist_air = !cm1; /* CF mass fractions are per kg of (moist) air; CM1 writes mixing ratios */
