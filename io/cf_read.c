@@ -454,6 +454,9 @@ typedef struct cf_levels {
   double *z_iface;      /* interfaces of the whole column, m (height levels) */
   double *z_cols;       /* pressure levels: the subset's interfaces per column, [k][y][x], m */
   double *p_level;      /* pressure levels: each subset level's pressure, Pa, from the bottom */
+  int *kb;              /* pressure levels: per column the first level above the ground (levels
+                           below it may be missing: no air, no cloud), counted from the file's bottom */
+  int raw;              /* cf_block leaves missing values NaN */
   sl_nc_var rho, p, temp, theta, qv;
   int have_rho, have_temp, have_theta, have_qv, qv_specific;
   sl_var_cache cache;
@@ -497,7 +500,8 @@ static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
   const sl_subset *s = c->s;
   const int *flip = c->L->flip;
   const int k0 = flip[1] ? (int)c->L->len[1] - s->k0 - s->nz : s->k0;
-  const int rc = sl_nc_read_block(c->f, v, c->t, k0, s->nz, s, out, err);
+  const int rc = c->raw || c->kb ? sl_nc_read_block_raw(c->f, v, c->t, k0, s->nz, s, out, err)
+                                  : sl_nc_read_block(c->f, v, c->t, k0, s->nz, s, out, err);
   if (rc) return rc;
   const size_t nx = (size_t)s->nx, ny = (size_t)s->ny, nz = (size_t)s->nz, plane = nx * ny;
   float t;
@@ -515,6 +519,13 @@ static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
     float *a = out + k * plane, *b = out + (nz - 1 - k) * plane;
     for (size_t i = 0; i < plane; ++i) t = a[i], a[i] = b[i], b[i] = t;
   }
+  /* Below the ground of a pressure grid a missing value is no air and no cloud; above it, an error. */
+  for (size_t k = 0; c->kb && k < nz; ++k)
+    for (size_t i = 0; i < plane; ++i)
+      if (!isfinite(out[k * plane + i])) {
+        if (s->k0 + (int)k >= c->kb[i]) return sl_nc_fail_missing(c->f, v->name, c->t, err);
+        out[k * plane + i] = 0.0f;
+      }
   return SL_OK;
 }
 
@@ -543,6 +554,11 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
   for (size_t i = 0; !rc && !c->have_rho && c->p_level && i < n; ++i) a[i] = (float)c->p_level[i / c->n2];
   if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
   for (size_t i = 0; !rc && i < n; ++i) {
+    if (c->kb && c->s->k0 + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
+      rho_dry[i] = 0.0f, frozen[i] = 0;
+      if (rho_moist) rho_moist[i] = 0.0f;
+      continue;
+    }
     /* Small negative vapour is advection noise (clamped, as the hydrometeors are); beyond that,
      * or past 0.1 kg/kg (air holds at most a few hundredths), it is not a humidity at all. */
     if (!(qv[i] >= -0.01 && qv[i] <= 0.1)) {
@@ -683,7 +699,8 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
   float *z = malloc(n * n2 * sizeof(float));
   c->z_cols = malloc((nz + 1) * n2 * sizeof(double));
   c->p_level = malloc(nz * sizeof(double));
-  if (!p || !z || !c->z_cols || !c->p_level) {
+  c->kb = malloc(n2 * sizeof(int));
+  if (!p || !z || !c->z_cols || !c->p_level || !c->kb) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
     goto done;
   }
@@ -691,7 +708,7 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
   sl_subset all = *c->s;
   all.k0 = 0, all.nz = (int)n;
   cf_levels whole = *c;
-  whole.s = &all;
+  whole.s = &all, whole.raw = 1, whole.kb = NULL;
   char pu[8], ps[8];
   if (!coord_values(f, L->coord[1], n, p, pu, sizeof pu, ps, sizeof ps)) {
     rc = sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the pressure levels", f->path,
@@ -713,6 +730,27 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
   if ((rc = cf_block(&whole, &geo, z, err))) goto done;
   const int k0 = c->s->k0;
   for (size_t i = 0; i < n2; ++i) {
+    /* Levels below the ground may be missing (CMIP masks them, xarray writes NaN there): the column
+     * starts at its first level with a height, and every level above must have one. The missing
+     * levels get heights down the hypsometric equation at 288 K, so that the remap sees rising
+     * interfaces; they hold no air and no cloud. */
+    size_t kb = 0;
+    while (kb < n && !isfinite(z[kb * n2 + i])) ++kb;
+    for (size_t k = kb; k < n; ++k)
+      if (!isfinite(z[k * n2 + i])) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' is missing at %g Pa above the ground in column (%zu, %zu) at time %d",
+                     f->path, name, p[k], i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t);
+        goto done;
+      }
+    if (kb + 2 > n) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' has %s in column (%zu, %zu) at time %d", f->path, name,
+                   kb == n ? "no level above the ground" : "one level above the ground", i % (size_t)c->s->nx,
+                   i / (size_t)c->s->nx, c->t);
+      goto done;
+    }
+    c->kb[i] = (int)kb;
+    for (size_t k = kb; k-- > 0;)
+      z[k * n2 + i] = (float)(z[(k + 1) * n2 + i] - CF_RD * 288.0 / 9.80665 * log(p[k] / p[k + 1]));
     for (size_t k = 1; k < n; ++k)
       if (!(z[k * n2 + i] > z[(k - 1) * n2 + i])) {
         rc = sl_fail(err, SL_ERR_DATA,
@@ -730,7 +768,12 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
     }
   }
   *ground = INFINITY, *top = -INFINITY;
-  for (size_t i = 0; i < n2; ++i) *ground = fmin(*ground, c->z_cols[i]), *top = fmax(*top, c->z_cols[nz * n2 + i]);
+  /* The grid starts at the lowest interface above the ground (the layers below hold nothing). */
+  for (size_t i = 0; i < n2; ++i) {
+    const int lowest = c->kb[i] > k0 ? (c->kb[i] - k0 < (int)nz ? c->kb[i] - k0 : (int)nz) : 0;
+    *ground = fmin(*ground, c->z_cols[(size_t)lowest * n2 + i]);
+    *top = fmax(*top, c->z_cols[nz * n2 + i]);
+  }
   if (!(*top <= 1e5) || !(*ground >= -1e4)) {
     rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' spans %g to %g m, not an atmosphere (are its units right?)", f->path,
                  name, *ground, *top);
@@ -819,5 +862,6 @@ done:
   free(c.z_iface);
   free(c.z_cols);
   free(c.p_level);
+  free(c.kb);
   return rc;
 }

@@ -227,10 +227,19 @@ int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, 
   int rc = read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
   const size_t n = (size_t)(v->ndims - v->has_time == 3 ? nk : 1) * s->nx * s->ny;
   for (size_t i = 0; !rc && i < n; ++i)
-    if (!isfinite(out[i]))
-      rc = sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path, v->name,
-                   t);
+    if (!isfinite(out[i])) rc = sl_nc_fail_missing(f, v->name, t, err);
   return rc;
+}
+
+int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
+                         sl_error *err)
+{
+  return read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
+}
+
+int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err)
+{
+  return sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path, name, t);
 }
 
 int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, const char *const dims[3],
@@ -252,8 +261,6 @@ int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, cons
 int sl_all_finite(const sl_nc *f, const char *name, int t, const double *v, size_t n, sl_error *err)
 {
   for (size_t i = 0; i < n; ++i)
-    if (!isfinite(v[i]))
-      return sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path,
-                     name, t);
+    if (!isfinite(v[i])) return sl_nc_fail_missing(f, name, t, err);
   return SL_OK;
 }

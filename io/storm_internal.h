@@ -84,6 +84,11 @@ int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, cons
  * compressed chunks are inflated once, whatever their shape. */
 int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
                      sl_error *err);
+/* The same without the check: missing values read as NaN (pressure levels below the ground). */
+int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
+                         sl_error *err);
+/* The error for a NaN, infinite or missing value in variable `name`. */
+int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err);
 /* Fails on NaN/Inf naming the variable. */
 int sl_all_finite(const sl_nc *f, const char *name, int t, const double *v, size_t n, sl_error *err);
 

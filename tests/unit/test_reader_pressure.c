@@ -47,7 +47,11 @@ static double cloud_at(int i, int j, int k)
 
 typedef struct layout {
   int top_down, north_south, height_var, hpa, ecmwf_name, missing_geo, bad_column, one_level;
+  int below;       /* column (2, 1) masked at 1000 and 950 hPa (below its ground), as CMIP writes */
+  int hole;        /* 1: the cloud, 2: the geopotential missing at 500 hPa in column (0, 0) */
 } layout;
+
+#define FILL 1e20f
 
 static void put(int nc, const char *name, int ndims, const int *dims, const char *std, const char *units, int *id)
 {
@@ -82,6 +86,13 @@ static const char *write_storm(const char *name, layout lay)
         lay.height_var ? "m" : "m**2 s**-2", &v_geo);
   put(nc, "t", 4, d, "air_temperature", "K", &v_ta);
   put(nc, "q", 4, d, "specific_humidity", "kg kg**-1", &v_q);
+  if (lay.below || lay.hole) {
+    const float fill = FILL;
+    nc_put_att_float(nc, v_cloud, "_FillValue", NC_FLOAT, 1, &fill);
+    nc_put_att_float(nc, v_ta, "_FillValue", NC_FLOAT, 1, &fill);
+    nc_put_att_float(nc, v_q, "_FillValue", NC_FLOAT, 1, &fill);
+    if (!lay.missing_geo) nc_put_att_float(nc, v_geo, "_FillValue", NC_FLOAT, 1, &fill);
+  }
   nc_enddef(nc);
   const float t0 = 12.0f;
   nc_put_var_float(nc, v_t, &t0);
@@ -106,6 +117,8 @@ static const char *write_storm(const char *name, layout lay)
         geo[k][jf][i] = (float)(lay.height_var ? z : G0 * z);
         ta[k][jf][i] = (float)temperature_at(i, j, pa);
         q[k][jf][i] = 0.0f;
+        if (lay.below && i == 2 && j == 1 && kf < 2) cloud[k][jf][i] = geo[k][jf][i] = ta[k][jf][i] = q[k][jf][i] = FILL;
+        if (lay.hole && i == 0 && j == 0 && level_hpa(kf) == 500.0) *(lay.hole == 1 ? &cloud[k][jf][i] : &geo[k][jf][i]) = FILL;
       }
   if (lay.bad_column) { /* column (1, 0): the 700 hPa level below the 750 hPa one */
     const int k = lay.top_down ? np - 1 - 6 : 6, jf = lay.north_south ? NY - 1 : 0;
@@ -228,6 +241,29 @@ static void test_orders_and_units(void)
   sl_storm_frame_free(&a);
 }
 
+/* A column whose lowest levels lie below its ground, masked with _FillValue (CMIP, xarray's NaN):
+ * no air and no cloud there, the rest of the column as before. */
+static void test_below_ground(void)
+{
+  const layout lay = {.below = 1, .top_down = 1, .hpa = 1, .north_south = 1};
+  sl_storm_frame f;
+  sl_error err = {0};
+  if (!CHECK(load(write_storm("below", lay), NULL, &f, &err) == SL_OK)) {
+    fprintf(stderr, "%s\n", err.message);
+    return;
+  }
+  for (int j = 0; j < NY; ++j)
+    for (int i = 0; i < NX; ++i) CHECK_CLOSE(sl_test_column_path(&f, i, j), hydrostatic_path(i, j, 0, NP), 2e-3, 0.0);
+  /* The grid starts at the lowest interface above a ground: the other columns' (the masked one's
+   * lowest level above its ground is 900 hPa). */
+  double ground = INFINITY;
+  for (int j = 0; j < NY; ++j)
+    for (int i = 0; i < NX; ++i)
+      if (!(i == 2 && j == 1)) ground = fmin(ground, 1.5 * height_at(i, j, 1e5) - 0.5 * height_at(i, j, 95000.0));
+  CHECK_CLOSE(f.terrain_min, ground, 0.0, 0.05);
+  sl_storm_frame_free(&f);
+}
+
 static void expect_error(const char *name, layout lay, const char *fragment)
 {
   const char *path = write_storm(name, lay);
@@ -248,6 +284,10 @@ int main(void)
   expect_error("sinking_column", (layout){.bad_column = 1}, "does not rise");
   expect_error("sinking_column_era5", (layout){.bad_column = 1, .top_down = 1, .north_south = 1, .hpa = 1}, "does not rise");
   expect_error("one_level", (layout){.one_level = 1}, "one pressure level");
+  test_below_ground();
+  /* Missing above the ground is an error naming the variable, as everywhere. */
+  expect_error("cloud_hole", (layout){.hole = 1, .below = 1}, "'clw' has NaN, Inf or missing values");
+  expect_error("geopotential_hole", (layout){.hole = 2, .top_down = 1}, "missing at 50000 Pa above the ground");
   char cmd[700];
   snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
   if (getenv("SL_KEEP_TEST_FILES")) printf("files kept in %s\n", dir);
