@@ -1,5 +1,5 @@
 /* libFuzzer target: the storm reader on storm-like NetCDF files built from the fuzzer's bytes.
- * The bytes choose dimensions (WRF, CM1 and CF names, lengths 0..5, an unlimited time with 0..3
+ * The bytes choose dimensions (WRF, CM1 and CF names (height or pressure levels), lengths 0..5, an unlimited time with 0..3
  * records), variables (the names the readers look for, any numeric or text type, any shape over
  * those dimensions), attributes (packing, fill values, units, standard names, grid mappings,
  * DX/MAP_PROJ/MP_PHYSICS ... with any value, NaN and Inf included) and every data value. The file
@@ -75,6 +75,29 @@ static void put_attribute(int nc, int varid, const char *name, bytes *b)
   nc_put_att_double(nc, varid, name, TYPES[2 + take(b, 4)], 1 + take(b, 2), v);
 }
 
+/* Most pressure-level skeletons get orderly coordinates and heights (evenly spaced latitudes and
+ * longitudes, distinct pressures in either order, geopotential rising by level with the bytes'
+ * noise, now and then missing at the bottom), so that the fuzzer reaches the load behind the
+ * checks; the bytes' values stay in the rest. */
+static void structure_pressure_grid(int nc, int varid, int n, const size_t *count, double *x, bytes *b)
+{
+  char name[NC_MAX_NAME + 1];
+  nc_inq_varname(nc, varid, name);
+  size_t total = 1;
+  for (int d = 0; d < n; ++d) total *= count[d];
+  const double sign = take(b, 2) ? 1.0 : -1.0;
+  if (n == 1 && (!strcmp(name, "lat") || !strcmp(name, "lon") || !strcmp(name, "plev")))
+    for (size_t i = 0; i < total; ++i) x[i] = !strcmp(name, "plev") ? 500.0 + sign * 50.0 * i : 10.0 + sign * 0.25 * i;
+  if (n == 4 && (!strcmp(name, "z") || !strcmp(name, "zg") || !strcmp(name, "t"))) {
+    const size_t plane = count[2] * count[3];
+    for (size_t i = 0; i < total; ++i) {
+      const size_t k = (i / plane) % count[1];
+      x[i] = !strcmp(name, "t") ? 250.0 : (!strcmp(name, "z") ? 9.80665 : 1.0) * (100.0 + 500.0 * k) + take(b, 100);
+      if (k == 0 && take(b, 4) == 0) x[i] = NAN;
+    }
+  }
+}
+
 static size_t build(bytes *b, void **image)
 {
   int nc;
@@ -82,11 +105,38 @@ static size_t build(bytes *b, void **image)
   nc_set_fill(nc, NC_FILL, NULL);
   int dimids[COUNT(DIMS) + 6], ndims = 0;
   int varids[24], nvars = 0;
-  /* A third of the inputs start from a complete WRF or CM1 skeleton (consistent dimensions, every
+  /* Three quarters of the inputs start from a complete WRF, CM1 or CF pressure-level skeleton (consistent dimensions, every
    * variable the reader needs, each dropped or retyped now and then), so the fuzzer reaches the
    * remap and not only the checks in front of it. */
-  const unsigned mode = take(b, 3);
-  if (mode > 0) {
+  const unsigned mode = take(b, 4);
+  if (mode == 3) {
+    /* CF on pressure levels (ERA5, CMIP): levels in either order and unit, a geopotential or its
+     * height, temperature, a cloud by standard name or ECMWF short name; values all the bytes'. */
+    static const char *const names[] = {"time", "plev", "lat", "lon"};
+    const size_t lens[] = {NC_UNLIMITED, 1 + take(b, 5), 1 + take(b, 4), 1 + take(b, 4)};
+    for (int d = 0; d < 4; ++d) nc_def_dim(nc, names[d], lens[d], &dimids[ndims++]);
+    static const struct {
+      const char *name, *std, *units;
+      int nd;
+    } vars[] = {{"time", NULL, "hours since 2005-08-29", 1}, {"plev", "air_pressure", "hPa", 1},
+                {"lat", "latitude", "degrees_north", 1},      {"lon", "longitude", "degrees_east", 1},
+                {"z", "geopotential", "m**2 s**-2", 4},       {"zg", "geopotential_height", "m", 4},
+                {"t", "air_temperature", "K", 4},             {"q", "specific_humidity", "kg kg**-1", 4},
+                {"clwc", NULL, "kg kg**-1", 4},               {"clw", "mass_fraction_of_cloud_liquid_water_in_air", "1", 4}};
+    for (size_t v = 0; v < COUNT(vars); ++v) {
+      if (take(b, 8) == 0) continue;
+      int vd[4] = {dimids[0], dimids[1], dimids[2], dimids[3]};
+      if (vars[v].nd == 1) vd[0] = dimids[v]; /* the coordinates, v < 4, along their own dimension */
+      if (nc_def_var(nc, vars[v].name, take(b, 4) ? NC_FLOAT : TYPES[2 + take(b, 4)], vars[v].nd, vd,
+                     &varids[nvars]) != NC_NOERR)
+        continue;
+      if (vars[v].std) nc_put_att_text(nc, varids[nvars], "standard_name", strlen(vars[v].std), vars[v].std);
+      const char *units = v == 1 && take(b, 2) ? "Pa" : vars[v].units;
+      nc_put_att_text(nc, varids[nvars], "units", strlen(units), units);
+      for (unsigned a = take(b, 3); a > 0 && take(b, 2); --a) put_attribute(nc, varids[nvars], ATTS[take(b, 4)], b);
+      nvars++;
+    }
+  } else if (mode > 0) {
     const int wrf = mode == 1;
     const char *const names[] = {wrf ? "Time" : "time", wrf ? "bottom_top" : "nk", wrf ? "south_north" : "nj",
                                  wrf ? "west_east" : "ni", wrf ? "bottom_top_stag" : "nkp1", "DateStrLen"};
@@ -157,6 +207,7 @@ static size_t build(bytes *b, void **image)
     if (total == 0 || total > 4096) continue;
     double *x = malloc(total * sizeof(double));
     for (size_t i = 0; i < total; ++i) x[i] = take_double(b);
+    if (mode == 3 && take(b, 4)) structure_pressure_grid(nc, varids[v], n, count, x, b);
     nc_type type;
     nc_inq_vartype(nc, varids[v], &type);
     if (type == NC_CHAR) {
