@@ -140,6 +140,7 @@ int sl_cmd_info(int argc, char **argv)
     cJSON_AddStringToObject(root, "format", storm_kind_name(info->kind));
     cJSON_AddStringToObject(root, "netcdf_format", netcdf_format_name(info->format));
     cJSON_AddStringToObject(root, "scheme", info->scheme);
+    cJSON_AddStringToObject(root, "vertical", info->vertical);
     cJSON *species = cJSON_AddArrayToObject(root, "species");
     for (int i = 0; i < frame.nspecies; ++i) {
       const sl_species &sp = frame.species[i];
@@ -180,6 +181,7 @@ int sl_cmd_info(int argc, char **argv)
     std::printf("extent      %.1f km east x %.1f km north x %.1f km up (terrain %.0f..%.0f m, top %.0f m)\n",
                 extent[0] / 1e3, extent[1] / 1e3, extent[2] / 1e3, frame.terrain_min, frame.terrain_max,
                 frame.model_top);
+    std::printf("levels      %s\n", info->vertical);
     std::printf("uniform     %d x %d x %d samples, dz %.1f m\n", v.nx, v.ny, v.nz, v.spacing[2]);
     std::printf("projection  %s (MAP_PROJ %d), truelat %g/%g, stand_lon %g; centre %.4f N %.4f E\n",
                 projection_name(info->map_proj), info->map_proj, info->truelat1, info->truelat2, info->stand_lon,

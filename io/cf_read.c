@@ -32,6 +32,8 @@ typedef struct cf_layout {
                                    geopotential on the same grid */
 } cf_layout;
 
+static int find_var(const sl_nc *f, int cm1, const char *cm1_name, const char *standard_name, char *out);
+
 static int coord_values(const sl_nc *f, const char *dim, size_t n, double *v, char *units, size_t ucap,
                         char *stdname, size_t scap)
 {
@@ -420,6 +422,32 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
   free(v);
 }
 
+/* What `info` says of the vertical: height levels, or pressure levels and the variable that
+ * gives their heights. */
+static void cf_vertical_words(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
+{
+  if (L->z_to_pa == 0.0) {
+    snprintf(info->vertical, sizeof info->vertical, "height levels '%.64s'%s", L->coord[1],
+             L->cm1 && sl_nc_has_var(f, "zf") ? " (interfaces zf)" : "");
+    return;
+  }
+  double ends[2] = {NAN, NAN};
+  const size_t last = L->len[1] - 1, first = 0;
+  int id;
+  if (nc_inq_varid(f->id, L->coord[1], &id) == NC_NOERR) {
+    nc_get_var1_double(f->id, id, &first, &ends[0]);
+    nc_get_var1_double(f->id, id, &last, &ends[1]);
+  }
+  char name[NC_MAX_NAME + 1] = "";
+  const char *source = find_var(f, 0, "", "geopotential_height", name) ? "geopotential_height"
+                       : find_var(f, 0, "", "geopotential", name)      ? "geopotential"
+                                                                         : NULL;
+  snprintf(info->vertical, sizeof info->vertical, "pressure levels '%.64s', %g to %g hPa; heights from %s%s%.64s%s",
+           L->coord[1], fmax(ends[0], ends[1]) * L->z_to_pa / 100.0, fmin(ends[0], ends[1]) * L->z_to_pa / 100.0,
+           source ? source : "nothing (no geopotential: the load fails)", source ? " '" : "", name,
+           source ? "'" : "");
+}
+
 int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
 {
   cf_layout L;
@@ -441,6 +469,7 @@ int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
                    info->dx, info->dy);
   if ((rc = cf_projection(f, &L, info, err))) return rc;
   cf_times(f, &L, info);
+  cf_vertical_words(f, &L, info);
   return SL_OK;
 }
 

@@ -51,6 +51,7 @@ typedef struct sl_storm_info {
   double pole_lat, pole_lon;  /* degrees, WRF's rotated-pole attributes (MAP_PROJ 6); 90, 0 when absent */
   int mp_physics;             /* WRF MP_PHYSICS, -1 when absent */
   char scheme[96];            /* microphysics scheme in words */
+  char vertical[256];         /* the vertical coordinate and where heights come from, in words */
   int nspecies;               /* hydrometeor variables found and how they map (before --field) */
   sl_species species[SL_MAX_SPECIES];
   char times[SL_MAX_TIMES][24]; /* "YYYY-MM-DD_hh:mm:ss" in the file's calendar, empty when the file has none */

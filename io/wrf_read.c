@@ -106,6 +106,7 @@ static int wrf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   const char *path = f->path;
   int rc = SL_OK;
   info->kind = SL_STORM_WRF;
+  snprintf(info->vertical, sizeof info->vertical, "model levels (eta), heights (PH+PHB)/g per column");
   if ((rc = dim_length(f, "west_east", &info->nx, err)) || (rc = dim_length(f, "south_north", &info->ny, err)) ||
       (rc = dim_length(f, "bottom_top", &info->nz, err)) || (rc = dim_length(f, "Time", &info->ntimes, err)))
     return rc;

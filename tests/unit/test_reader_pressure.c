@@ -170,6 +170,9 @@ static void test_hydrostatic_mass(void)
       continue;
     }
     CHECK(info.kind == SL_STORM_CF && info.nz == NP && info.nspecies == 1 && info.map_proj == 6);
+    /* `info` says where the heights come from. */
+    CHECK(strstr(info.vertical, "1000 to 100 hPa") &&
+          strstr(info.vertical, v ? "geopotential_height 'zg'" : "geopotential 'z'"));
     ok[v] = CHECK(load(paths[v], NULL, &f[v], &err) == SL_OK);
     if (!ok[v]) {
       fprintf(stderr, "%s\n", err.message);
