@@ -30,6 +30,9 @@ typedef struct cf_layout {
   double lat0;                  /* degrees, for latitude-longitude grids */
   double z_to_pa;               /* > 0: z is pressure levels (Pa per unit); heights then come from a
                                    geopotential on the same grid */
+  int hybrid_height;            /* z is atmosphere_hybrid_height_coordinate: z = a + b orog */
+  int altitude_3d;              /* z is model levels with a 3-D altitude on the same grid */
+  char terms[3][NC_MAX_NAME + 1]; /* hybrid height's formula_terms a, b, orog */
 } cf_layout;
 
 static int find_var(const sl_nc *f, int cm1, const char *cm1_name, const char *standard_name, char *out);
@@ -258,6 +261,23 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
   int zid;
   if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR) sl_nc_attr_text(f, zid, "positive", positive, sizeof positive);
   L->z_to_m = length_scale(zunits);
+  if (!L->cm1 && strcmp(zstd, "atmosphere_hybrid_height_coordinate") == 0) {
+    /* formula_terms "a: VAR b: VAR orog: VAR" (CF appendix D) */
+    char terms[512] = "";
+    sl_nc_attr_text(f, zid, "formula_terms", terms, sizeof terms);
+    static const char *const keys[3] = {"a:", "b:", "orog:"};
+    for (int t = 0; t < 3; ++t) {
+      const char *at = strstr(terms, keys[t]);
+      /* a key starts the string or follows a space ("a:" is also the end of "orog:"'s neighbours) */
+      while (at && at != terms && at[-1] != ' ') at = strstr(at + 1, keys[t]);
+      if (!at || sscanf(at + strlen(keys[t]), " %256s", L->terms[t]) != 1 || !sl_nc_has_var(f, L->terms[t]))
+        return sl_fail(err, SL_ERR_FORMAT,
+                       "%s: hybrid height coordinate '%s' needs formula_terms naming a, b and orog variables (has "
+                       "'%s')",
+                       f->path, L->coord[1], terms);
+    }
+    L->hybrid_height = 1;
+  }
   double pa = 0.0, unused;
   if (!L->cm1 && cf_unit_factor(CF_PRESSURE, zunits, &pa, &unused) == 1) L->z_to_pa = pa;
   else if (!L->cm1 && strcmp(zstd, "air_pressure") == 0 && !zunits[0]) L->z_to_pa = 1.0;
@@ -265,10 +285,14 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' has positive = \"down\" (a depth): only heights, positive up, are read",
                    f->path, L->coord[1]);
-  if (!(L->z_to_m > 0.0) && L->z_to_pa == 0.0)
+  /* Model levels of any other kind are read where a 3-D altitude gives their heights. */
+  char alt[NC_MAX_NAME + 1];
+  if (!L->hybrid_height && !(L->z_to_m > 0.0) && L->z_to_pa == 0.0 && !L->cm1 && find_var(f, 0, "", "altitude", alt))
+    L->altitude_3d = 1;
+  if (!(L->z_to_m > 0.0) && L->z_to_pa == 0.0 && !L->hybrid_height && !L->altitude_3d)
     return sl_fail(err, SL_ERR_FORMAT,
-                   "%s: vertical coordinate '%s' (units '%s') is neither a height in m or km nor a pressure: only "
-                   "height and pressure levels are read",
+                   "%s: vertical coordinate '%s' (units '%s') is neither a height in m or km, a pressure nor a "
+                   "hybrid height, and no variable has standard_name altitude: its heights are unknown",
                    f->path, L->coord[1], zunits);
   /* Levels listed from the top down (heights decreasing, pressures increasing) are read reversed. */
   if (L->len[1] > 1) {
@@ -277,7 +301,7 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
     if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR && sl_nc_var_is_1d(f, zid, L->len[1], NULL) &&
         nc_get_var1_double(f->id, zid, &first, &ends[0]) == NC_NOERR &&
         nc_get_var1_double(f->id, zid, &last, &ends[1]) == NC_NOERR)
-      L->flip[1] = L->z_to_pa > 0.0 ? ends[1] > ends[0] : ends[1] < ends[0];
+      L->flip[1] = L->z_to_pa > 0.0 ? ends[1] > ends[0] : ends[1] < ends[0]; /* model level numbers count up */
   }
   return SL_OK;
 }
@@ -426,6 +450,17 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
  * gives their heights. */
 static void cf_vertical_words(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
+  char alt[NC_MAX_NAME + 1] = "";
+  if (L->hybrid_height) {
+    snprintf(info->vertical, sizeof info->vertical, "hybrid height '%.48s' = %.48s + %.48s * %.48s", L->coord[1],
+             L->terms[0], L->terms[1], L->terms[2]);
+    return;
+  }
+  if (L->altitude_3d && find_var(f, 0, "", "altitude", alt)) {
+    snprintf(info->vertical, sizeof info->vertical, "model levels '%.64s', heights from altitude '%.64s'", L->coord[1],
+             alt);
+    return;
+  }
   if (L->z_to_pa == 0.0) {
     snprintf(info->vertical, sizeof info->vertical, "height levels '%.64s'%s", L->coord[1],
              L->cm1 && sl_nc_has_var(f, "zf") ? " (interfaces zf)" : "");
@@ -699,76 +734,140 @@ static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *
   return SL_OK;
 }
 
-/* Pressure levels: each column's level heights from a geopotential (or geopotential height) on
- * the same grid, its interfaces halfway between levels and the outer ones half a layer beyond, as
- * for 1-D heights; each level's pressure from the coordinate. A column whose heights do not rise
- * as the pressure falls is refused, naming it. Sets the subset's lowest and highest interface. */
-static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_error *err)
+/* Reads a 1-D variable of n values along the vertical, reversed with the levels. 0 when absent. */
+static int cf_levels_1d(const sl_nc *f, const cf_layout *L, const char *name, size_t n, double *v)
+{
+  int id;
+  size_t start = 0;
+  if (nc_inq_varid(f->id, name, &id) != NC_NOERR || !sl_nc_var_is_1d(f, id, n, NULL) ||
+      nc_get_vara_double(f->id, id, &start, &n, v) != NC_NOERR)
+    return 0;
+  for (size_t k = 0; L->flip[1] && k < n / 2; ++k) {
+    const double t = v[k];
+    v[k] = v[n - 1 - k], v[n - 1 - k] = t;
+  }
+  return 1;
+}
+
+/* Hybrid height (CF appendix D, atmosphere_hybrid_height_coordinate; the Met Office UM's levels):
+ * z(k, j, i) = a(k) + b(k) orog(j, i), in the units of a. Fills z[k][y][x] for all levels. */
+static int cf_hybrid_heights(cf_levels *c, float *z, char *what, sl_error *err)
+{
+  const sl_nc *f = c->f;
+  const cf_layout *L = c->L;
+  const size_t n = L->len[1], n2 = c->n2;
+  double *a = malloc(n * sizeof(double)), *b = malloc(n * sizeof(double)), *orog = malloc(n2 * sizeof(double));
+  int rc = a && b && orog ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  snprintf(what, NC_MAX_NAME + 1, "%s", L->terms[2]);
+  if (!rc && (!cf_levels_1d(f, L, L->terms[0], n, a) || !cf_levels_1d(f, L, L->terms[1], n, b)))
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: hybrid height terms '%s' and '%s' must be 1-D along '%s'", f->path,
+                 L->terms[0], L->terms[1], L->dim[1]);
+  double scale = 1.0, offset = 0.0;
+  char units[64] = "";
+  int id;
+  if (!rc && nc_inq_varid(f->id, L->terms[0], &id) == NC_NOERR && sl_nc_attr_text(f, id, "units", units, sizeof units) &&
+      cf_unit_factor(CF_HEIGHT, units, &scale, &offset) == 0)
+    rc = sl_fail(err, SL_ERR_FORMAT, "%s: hybrid height term '%s' has units '%s', not a height", f->path, L->terms[0],
+                 units);
+  sl_nc_var ov;
+  const char *const dims[2] = {L->dim[2], L->dim[3]};
+  const size_t lens[2] = {L->len[2], L->len[3]};
+  if (!rc) rc = sl_nc_var_open(f, L->terms[2], 2, dims, lens, &ov, err);
+  if (!rc) rc = cf_apply_units(f, &ov, CF_HEIGHT, err);
+  if (!rc) rc = sl_nc_read_slab(f, &ov, c->t, -1, c->s, orog, err);
+  if (!rc) rc = sl_all_finite(f, L->terms[2], c->t, orog, n2, err);
+  const size_t nx = (size_t)c->s->nx, ny = (size_t)c->s->ny;
+  for (size_t k = 0; !rc && k < n; ++k)
+    for (size_t j = 0; j < ny; ++j)
+      for (size_t i = 0; i < nx; ++i) {
+        /* the orography in the file's order; the grid's x and y as reversed for the fields */
+        const size_t src = (L->flip[2] ? ny - 1 - j : j) * nx + (L->flip[3] ? nx - 1 - i : i);
+        z[k * n2 + j * nx + i] = (float)((a[k] + b[k] * orog[src]) * scale + offset);
+      }
+  free(a);
+  free(b);
+  free(orog);
+  return rc;
+}
+
+/* Levels whose heights vary by column: pressure levels (heights from a geopotential or
+ * geopotential height on the same grid, pressures from the coordinate), hybrid height (a + b orog)
+ * and any levels with a 3-D altitude. Each column's interfaces lie halfway between its levels and
+ * the outer ones half a layer beyond, as for 1-D heights. A column whose heights do not rise is
+ * refused, naming it. Sets the subset's lowest interface above a ground and its highest. */
+static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error *err)
 {
   const sl_nc *f = c->f;
   const cf_layout *L = c->L;
   const size_t n = L->len[1], n2 = c->n2, nz = (size_t)c->s->nz;
-  char name[NC_MAX_NAME + 1];
-  const int height = find_var(f, 0, "", "geopotential_height", name);
-  if (!height && !find_var(f, 0, "", "geopotential", name))
+  const int pressure = L->z_to_pa > 0.0;
+  char name[NC_MAX_NAME + 1] = "";
+  int height = 0;
+  if (pressure && !(height = find_var(f, 0, "", "geopotential_height", name)) &&
+      !find_var(f, 0, "", "geopotential", name))
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' is pressure: its heights need a variable with standard_name "
                    "geopotential_height or geopotential on the same grid",
                    f->path, L->coord[1]);
+  if (L->altitude_3d) height = find_var(f, 0, "", "altitude", name);
   if (n < 2)
-    return sl_fail(err, SL_ERR_FORMAT, "%s: one pressure level has no thickness: a pressure grid needs two or more",
-                   f->path);
-  sl_nc_var geo;
-  int rc = cf_var(c, name, CF_HEIGHT, &geo, err);
-  if (rc) return rc;
-  char units[64] = "";
-  if (!height && !sl_nc_attr_text(f, geo.varid, "units", units, sizeof units))
-    geo.scale /= 9.80665, geo.offset /= 9.80665; /* geopotential without units: SI, m2 s-2 */
+    return sl_fail(err, SL_ERR_FORMAT, "%s: one %s level has no thickness: such a grid needs two or more", f->path,
+                   pressure ? "pressure" : "model");
   double *p = malloc(n * sizeof(double));
   float *z = malloc(n * n2 * sizeof(float));
   c->z_cols = malloc((nz + 1) * n2 * sizeof(double));
-  c->p_level = malloc(nz * sizeof(double));
+  c->p_level = pressure ? malloc(nz * sizeof(double)) : NULL;
   c->kb = malloc(n2 * sizeof(int));
-  if (!p || !z || !c->z_cols || !c->p_level || !c->kb) {
+  int rc = SL_OK;
+  if (!p || !z || !c->z_cols || (pressure && !c->p_level) || !c->kb) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
     goto done;
   }
-  /* All levels (the subset's outer interfaces lie halfway to the levels beyond it). */
-  sl_subset all = *c->s;
-  all.k0 = 0, all.nz = (int)n;
-  cf_levels whole = *c;
-  whole.s = &all, whole.raw = 1, whole.kb = NULL;
-  char pu[8], ps[8];
-  if (!coord_values(f, L->coord[1], n, p, pu, sizeof pu, ps, sizeof ps)) {
-    rc = sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the pressure levels", f->path,
-                 L->coord[1]);
-    goto done;
+  if (L->hybrid_height) {
+    if ((rc = cf_hybrid_heights(c, z, name, err))) goto done;
+  } else {
+    /* All levels (the subset's outer interfaces lie halfway to the levels beyond it). */
+    sl_subset all = *c->s;
+    all.k0 = 0, all.nz = (int)n;
+    cf_levels whole = *c;
+    whole.s = &all, whole.raw = 1, whole.kb = NULL;
+    sl_nc_var geo;
+    if ((rc = cf_var(c, name, CF_HEIGHT, &geo, err))) goto done;
+    char units[64] = "";
+    if (!height && !sl_nc_attr_text(f, geo.varid, "units", units, sizeof units))
+      geo.scale /= 9.80665, geo.offset /= 9.80665; /* geopotential without units: SI, m2 s-2 */
+    if ((rc = cf_block(&whole, &geo, z, err))) goto done;
   }
-  for (size_t k = 0; L->flip[1] && k < n / 2; ++k) {
-    const double t = p[k];
-    p[k] = p[n - 1 - k], p[n - 1 - k] = t;
-  }
-  for (size_t k = 0; k < n; ++k) {
-    p[k] *= L->z_to_pa;
-    if (!(p[k] > 0.0 && p[k] < 2e5) || (k > 0 && !(p[k] < p[k - 1]))) {
-      rc = sl_fail(err, SL_ERR_DATA, "%s: pressure levels '%s' are not distinct pressures between 0 and 2000 hPa",
-                   f->path, L->coord[1]);
+  if (pressure) {
+    if (!cf_levels_1d(f, L, L->coord[1], n, p)) {
+      rc = sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the pressure levels", f->path,
+                   L->coord[1]);
       goto done;
     }
+    for (size_t k = 0; k < n; ++k) {
+      p[k] *= L->z_to_pa;
+      if (!(p[k] > 0.0 && p[k] < 2e5) || (k > 0 && !(p[k] < p[k - 1]))) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: pressure levels '%s' are not distinct pressures between 0 and 2000 hPa",
+                     f->path, L->coord[1]);
+        goto done;
+      }
+    }
   }
-  if ((rc = cf_block(&whole, &geo, z, err))) goto done;
   const int k0 = c->s->k0;
   for (size_t i = 0; i < n2; ++i) {
     /* Levels below the ground may be missing (CMIP masks them, xarray writes NaN there): the column
      * starts at its first level with a height, and every level above must have one. The missing
-     * levels get heights down the hypsometric equation at 288 K, so that the remap sees rising
-     * interfaces; they hold no air and no cloud. */
+     * levels get heights (down the hypsometric equation at 288 K between pressure levels, else
+     * the spacing above) so that the remap sees rising interfaces; they hold no air and no cloud. */
     size_t kb = 0;
     while (kb < n && !isfinite(z[kb * n2 + i])) ++kb;
     for (size_t k = kb; k < n; ++k)
       if (!isfinite(z[k * n2 + i])) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' is missing at %g Pa above the ground in column (%zu, %zu) at time %d",
-                     f->path, name, p[k], i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t);
+        char where[64];
+        if (pressure) snprintf(where, sizeof where, "%g Pa", p[k]);
+        else snprintf(where, sizeof where, "level %zu", k);
+        rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' is missing at %s above the ground in column (%zu, %zu) at time %d",
+                     f->path, name, where, i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t);
         goto done;
       }
     if (kb + 2 > n) {
@@ -779,12 +878,13 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
     }
     c->kb[i] = (int)kb;
     for (size_t k = kb; k-- > 0;)
-      z[k * n2 + i] = (float)(z[(k + 1) * n2 + i] - CF_RD * 288.0 / 9.80665 * log(p[k] / p[k + 1]));
+      z[k * n2 + i] = (float)(pressure ? z[(k + 1) * n2 + i] - CF_RD * 288.0 / 9.80665 * log(p[k] / p[k + 1])
+                                       : 2.0 * z[(k + 1) * n2 + i] - z[(k + 2) * n2 + i]);
     for (size_t k = 1; k < n; ++k)
       if (!(z[k * n2 + i] > z[(k - 1) * n2 + i])) {
         rc = sl_fail(err, SL_ERR_DATA,
-                     "%s: '%s' does not rise from %g to %g Pa in column (%zu, %zu) at time %d (%g to %g m)", f->path,
-                     name, p[k - 1], p[k], i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t, z[(k - 1) * n2 + i],
+                     "%s: '%s' does not rise from level %zu to %zu in column (%zu, %zu) at time %d (%g to %g m)",
+                     f->path, name, k - 1, k, i % (size_t)c->s->nx, i / (size_t)c->s->nx, c->t, z[(k - 1) * n2 + i],
                      z[k * n2 + i]);
         goto done;
       }
@@ -808,7 +908,7 @@ static int cf_pressure_levels(cf_levels *c, double *ground, double *top, sl_erro
                  name, *ground, *top);
     goto done;
   }
-  for (size_t k = 0; k < nz; ++k) c->p_level[k] = p[(size_t)k0 + k];
+  for (size_t k = 0; pressure && k < nz; ++k) c->p_level[k] = p[(size_t)k0 + k];
 done:
   free(p);
   free(z);
@@ -834,8 +934,8 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
     return sl_fail(err, SL_ERR_ARG, "%s: --levels outside the file's %d levels", f->path, info->nz);
   cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny};
   double ground = 0.0, top = 0.0;
-  if (L.z_to_pa > 0.0) {
-    if ((rc = cf_pressure_levels(&c, &ground, &top, err))) goto done;
+  if (L.z_to_pa > 0.0 || L.hybrid_height || L.altitude_3d) {
+    if ((rc = cf_column_levels(&c, &ground, &top, err))) goto done;
   } else {
     c.z_iface = malloc((L.len[1] + 1) * sizeof(double));
     if (!c.z_iface) {

@@ -75,9 +75,9 @@ static void put_attribute(int nc, int varid, const char *name, bytes *b)
   nc_put_att_double(nc, varid, name, TYPES[2 + take(b, 4)], 1 + take(b, 2), v);
 }
 
-/* Most pressure-level skeletons get orderly coordinates and heights (evenly spaced latitudes and
- * longitudes, distinct pressures in either order, geopotential rising by level with the bytes'
- * noise, now and then missing at the bottom), so that the fuzzer reaches the load behind the
+/* Most CF skeletons get orderly coordinates and heights (evenly spaced latitudes and longitudes,
+ * distinct pressures in either order, hybrid-height terms, geopotential and altitude rising by
+ * level with the bytes' noise, now and then missing at the bottom), so that the fuzzer reaches the load behind the
  * checks; the bytes' values stay in the rest. */
 static void structure_pressure_grid(int nc, int varid, int n, const size_t *count, double *x, bytes *b)
 {
@@ -86,13 +86,23 @@ static void structure_pressure_grid(int nc, int varid, int n, const size_t *coun
   size_t total = 1;
   for (int d = 0; d < n; ++d) total *= count[d];
   const double sign = take(b, 2) ? 1.0 : -1.0;
-  if (n == 1 && (!strcmp(name, "lat") || !strcmp(name, "lon") || !strcmp(name, "plev")))
-    for (size_t i = 0; i < total; ++i) x[i] = !strcmp(name, "plev") ? 500.0 + sign * 50.0 * i : 10.0 + sign * 0.25 * i;
-  if (n == 4 && (!strcmp(name, "z") || !strcmp(name, "zg") || !strcmp(name, "t"))) {
+  if (n == 1 && (!strcmp(name, "lat") || !strcmp(name, "lon") || !strcmp(name, "plev") ||
+                 !strcmp(name, "level_height") || !strcmp(name, "sigma")))
+    for (size_t i = 0; i < total; ++i)
+      x[i] = !strcmp(name, "plev")           ? 500.0 + sign * 50.0 * i
+             : !strcmp(name, "level_height") ? 100.0 + 500.0 * i
+             : !strcmp(name, "sigma")        ? 1.0 / (1.0 + i)
+                                             : 10.0 + sign * 0.25 * i;
+  if (n == 2 && !strcmp(name, "surface_altitude"))
+    for (size_t i = 0; i < total; ++i) x[i] = take(b, 300);
+  if (n == 4 && (!strcmp(name, "z") || !strcmp(name, "zg") || !strcmp(name, "t") || !strcmp(name, "altitude") ||
+                 !strcmp(name, "pa"))) {
     const size_t plane = count[2] * count[3];
     for (size_t i = 0; i < total; ++i) {
       const size_t k = (i / plane) % count[1];
-      x[i] = !strcmp(name, "t") ? 250.0 : (!strcmp(name, "z") ? 9.80665 : 1.0) * (100.0 + 500.0 * k) + take(b, 100);
+      x[i] = !strcmp(name, "t")    ? 250.0
+             : !strcmp(name, "pa") ? 9e4 - 5e3 * k
+                                   : (!strcmp(name, "z") ? 9.80665 : 1.0) * (100.0 + 500.0 * k) + take(b, 100);
       if (k == 0 && take(b, 4) == 0) x[i] = NAN;
     }
   }
@@ -110,8 +120,9 @@ static size_t build(bytes *b, void **image)
    * remap and not only the checks in front of it. */
   const unsigned mode = take(b, 4);
   if (mode == 3) {
-    /* CF on pressure levels (ERA5, CMIP): levels in either order and unit, a geopotential or its
-     * height, temperature, a cloud by standard name or ECMWF short name; values all the bytes'. */
+    /* CF on pressure levels (ERA5, CMIP), hybrid height (UM) or level numbers with an altitude:
+     * levels in either order and unit, a geopotential or its height, temperature, a cloud by
+     * standard name or ECMWF short name; values all the bytes'. */
     static const char *const names[] = {"time", "plev", "lat", "lon"};
     const size_t lens[] = {NC_UNLIMITED, 1 + take(b, 5), 1 + take(b, 4), 1 + take(b, 4)};
     for (int d = 0; d < 4; ++d) nc_def_dim(nc, names[d], lens[d], &dimids[ndims++]);
@@ -122,16 +133,29 @@ static size_t build(bytes *b, void **image)
                 {"lat", "latitude", "degrees_north", 1},      {"lon", "longitude", "degrees_east", 1},
                 {"z", "geopotential", "m**2 s**-2", 4},       {"zg", "geopotential_height", "m", 4},
                 {"t", "air_temperature", "K", 4},             {"q", "specific_humidity", "kg kg**-1", 4},
-                {"clwc", NULL, "kg kg**-1", 4},               {"clw", "mass_fraction_of_cloud_liquid_water_in_air", "1", 4}};
+                {"clwc", NULL, "kg kg**-1", 4},               {"clw", "mass_fraction_of_cloud_liquid_water_in_air", "1", 4},
+                {"level_height", NULL, "m", 1},               {"sigma", NULL, "1", 1},
+                {"surface_altitude", "surface_altitude", "m", 2}, {"altitude", "altitude", "m", 4},
+                {"pa", "air_pressure", "Pa", 4}};
+    /* Now and then the levels are hybrid height (a + b orog, formula_terms) or level numbers. */
+    const unsigned levels = take(b, 3);
     for (size_t v = 0; v < COUNT(vars); ++v) {
       if (take(b, 8) == 0) continue;
       int vd[4] = {dimids[0], dimids[1], dimids[2], dimids[3]};
-      if (vars[v].nd == 1) vd[0] = dimids[v]; /* the coordinates, v < 4, along their own dimension */
+      if (vars[v].nd == 1) vd[0] = dimids[v < 4 ? v : 1]; /* coordinates along their own dimension; terms along z */
+      if (vars[v].nd == 2) vd[0] = dimids[2], vd[1] = dimids[3];
       if (nc_def_var(nc, vars[v].name, take(b, 4) ? NC_FLOAT : TYPES[2 + take(b, 4)], vars[v].nd, vd,
                      &varids[nvars]) != NC_NOERR)
         continue;
-      if (vars[v].std) nc_put_att_text(nc, varids[nvars], "standard_name", strlen(vars[v].std), vars[v].std);
-      const char *units = v == 1 && take(b, 2) ? "Pa" : vars[v].units;
+      const char *std = v == 1 && levels == 1 ? "atmosphere_hybrid_height_coordinate"
+                        : v == 1 && levels == 2 ? "model_level_number"
+                                                : vars[v].std;
+      if (std) nc_put_att_text(nc, varids[nvars], "standard_name", strlen(std), std);
+      if (v == 1 && levels == 1) {
+        const char *terms = take(b, 4) ? "a: level_height b: sigma orog: surface_altitude" : "a: level_height b:";
+        nc_put_att_text(nc, varids[nvars], "formula_terms", strlen(terms), terms);
+      }
+      const char *units = v == 1 && levels ? (levels == 1 ? "m" : "1") : v == 1 && take(b, 2) ? "Pa" : vars[v].units;
       nc_put_att_text(nc, varids[nvars], "units", strlen(units), units);
       for (unsigned a = take(b, 3); a > 0 && take(b, 2); --a) put_attribute(nc, varids[nvars], ATTS[take(b, 4)], b);
       nvars++;

@@ -267,6 +267,124 @@ static void test_below_ground(void)
   sl_storm_frame_free(&f);
 }
 
+/* Terrain-following model levels: the Met Office UM's hybrid height (z = a + b orog, CF appendix
+ * D, formula_terms) and, the same levels, as model level numbers with a 3-D altitude. Air from
+ * pressure and potential temperature on the levels, as the UM writes it. The same oracle: the
+ * hydrostatic mass of each level's layer, now between heights halfway to its neighbours. */
+enum { NL = 20 };
+static double hybrid_a(int k) { return 200.0 + 600.0 * k; }
+static double hybrid_b(int k) { return (1.0 - hybrid_a(k) / 12000.0) * (1.0 - hybrid_a(k) / 12000.0); }
+static double orography(int i, int j) { return 300.0 * i + 200.0 * j; }
+static double model_height(int i, int j, int k)
+{
+  if (k < 0) return 2.0 * model_height(i, j, 0) - model_height(i, j, 1);
+  if (k >= NL) return 2.0 * model_height(i, j, NL - 1) - model_height(i, j, NL - 2);
+  return hybrid_a(k) + hybrid_b(k) * orography(i, j);
+}
+static double model_cloud(int i, int j, int k) { return k >= 3 && k <= 9 ? 2e-4 * (1.0 + i + 2.0 * j) : 0.0; }
+
+static const char *write_model_levels(const char *name, int hybrid)
+{
+  static char out[2][512];
+  char *path = out[hybrid != 0];
+  snprintf(path, 512, "%s/%s.nc", dir, name);
+  int nc, d[4], v_lev, v_b, v_orog, v_alt = -1, v_y, v_x, v_cl, v_p, v_th;
+  nc_create(path, NC_NETCDF4, &nc);
+  nc_def_dim(nc, "time", 1, &d[0]);
+  nc_def_dim(nc, "model_level_number", NL, &d[1]);
+  nc_def_dim(nc, "latitude", NY, &d[2]);
+  nc_def_dim(nc, "longitude", NX, &d[3]);
+  if (hybrid) {
+    put(nc, "model_level_number", 1, d + 1, "atmosphere_hybrid_height_coordinate", "m", &v_lev);
+    const char *terms = "a: level_height b: sigma orog: surface_altitude";
+    nc_put_att_text(nc, v_lev, "formula_terms", strlen(terms), terms);
+    int v_a;
+    put(nc, "level_height", 1, d + 1, NULL, "m", &v_a);
+    put(nc, "sigma", 1, d + 1, NULL, "1", &v_b);
+    put(nc, "surface_altitude", 2, d + 2, "surface_altitude", "m", &v_orog);
+  } else {
+    put(nc, "model_level_number", 1, d + 1, "model_level_number", "1", &v_lev);
+    put(nc, "altitude", 4, d, "altitude", "m", &v_alt);
+  }
+  put(nc, "latitude", 1, d + 2, "latitude", "degrees_north", &v_y);
+  put(nc, "longitude", 1, d + 3, "longitude", "degrees_east", &v_x);
+  put(nc, "cl", 4, d, "mass_fraction_of_cloud_liquid_water_in_air", "kg kg-1", &v_cl);
+  put(nc, "p", 4, d, "air_pressure", "Pa", &v_p);
+  put(nc, "theta", 4, d, "air_potential_temperature", "K", &v_th);
+  nc_enddef(nc);
+  float lev[NL], lat[NY], lon[NX];
+  static float a[NL], b[NL], orog[NY][NX], alt[NL][NY][NX], cl[NL][NY][NX], p[NL][NY][NX], th[NL][NY][NX];
+  for (int k = 0; k < NL; ++k) lev[k] = (float)(hybrid ? hybrid_a(k) : k + 1), a[k] = (float)hybrid_a(k), b[k] = (float)hybrid_b(k);
+  for (int j = 0; j < NY; ++j) lat[j] = (float)(50.0 + 0.02 * j);
+  for (int i = 0; i < NX; ++i) lon[i] = (float)(-3.0 + 0.03 * i);
+  for (int k = 0; k < NL; ++k)
+    for (int j = 0; j < NY; ++j)
+      for (int i = 0; i < NX; ++i) {
+        orog[j][i] = (float)orography(i, j);
+        const double z = hybrid_a(k) + (double)(float)hybrid_b(k) * orog[j][i]; /* as the reader forms it */
+        const double pa = pressure_at(i, j, z), t = temperature_at(i, j, pa);
+        alt[k][j][i] = (float)z, cl[k][j][i] = (float)model_cloud(i, j, k), p[k][j][i] = (float)pa;
+        th[k][j][i] = (float)(t * pow(1e5 / pa, 2.0 / 7.0));
+      }
+  nc_put_var_float(nc, v_lev, lev);
+  if (hybrid) {
+    int id;
+    nc_inq_varid(nc, "level_height", &id);
+    nc_put_var_float(nc, id, a);
+    nc_put_var_float(nc, v_b, b);
+    nc_put_var_float(nc, v_orog, &orog[0][0]);
+  } else {
+    nc_put_var_float(nc, v_alt, &alt[0][0][0]);
+  }
+  nc_put_var_float(nc, v_y, lat);
+  nc_put_var_float(nc, v_x, lon);
+  nc_put_var_float(nc, v_cl, &cl[0][0][0]);
+  nc_put_var_float(nc, v_p, &p[0][0][0]);
+  nc_put_var_float(nc, v_th, &th[0][0][0]);
+  nc_close(nc);
+  return path;
+}
+
+static void test_model_levels(void)
+{
+  const char *paths[2] = {write_model_levels("um_hybrid", 1), write_model_levels("altitude", 0)};
+  const char *words[2] = {"hybrid height", "heights from altitude"};
+  sl_storm_frame f[2];
+  int ok[2];
+  for (int v = 0; v < 2; ++v) {
+    sl_error err = {0};
+    sl_storm_info info;
+    ok[v] = CHECK(sl_storm_read_info(paths[v], &info, &err) == SL_OK) && CHECK(strstr(info.vertical, words[v]) != NULL) &&
+            CHECK(load(paths[v], NULL, &f[v], &err) == SL_OK);
+    if (!ok[v]) {
+      fprintf(stderr, "%s | %s\n", err.message, info.vertical);
+      continue;
+    }
+    double worst = 0.0;
+    for (int j = 0; j < NY; ++j)
+      for (int i = 0; i < NX; ++i) {
+        double want = 0.0;
+        for (int k = 0; k < NL; ++k)
+          want += model_cloud(i, j, k) *
+                  (pressure_at(i, j, 0.5 * (model_height(i, j, k - 1) + model_height(i, j, k))) -
+                   pressure_at(i, j, 0.5 * (model_height(i, j, k) + model_height(i, j, k + 1)))) / G0;
+        const double got = sl_test_column_path(&f[v], i, j);
+        worst = fmax(worst, fabs(got / want - 1.0));
+        CHECK_CLOSE(got, want, 2e-3, 0.0);
+      }
+    printf("%s: water path against the hydrostatic mass, worst column %.2e relative\n", words[v], worst);
+    /* The grid starts half a layer under the lowest level of the lowest column (orography 0). */
+    CHECK_CLOSE(f[v].terrain_min, 1.5 * hybrid_a(0) - 0.5 * hybrid_a(1), 0.0, 0.05);
+  }
+  if (ok[0] && ok[1]) {
+    for (int j = 0; j < NY; ++j)
+      for (int i = 0; i < NX; ++i)
+        CHECK_CLOSE(sl_test_column_path(&f[0], i, j), sl_test_column_path(&f[1], i, j), 1e-5, 0.0);
+  }
+  for (int v = 0; v < 2; ++v)
+    if (ok[v]) sl_storm_frame_free(&f[v]);
+}
+
 static void expect_error(const char *name, layout lay, const char *fragment)
 {
   const char *path = write_storm(name, lay);
@@ -288,6 +406,7 @@ int main(void)
   expect_error("sinking_column_era5", (layout){.bad_column = 1, .top_down = 1, .north_south = 1, .hpa = 1}, "does not rise");
   expect_error("one_level", (layout){.one_level = 1}, "one pressure level");
   test_below_ground();
+  test_model_levels();
   /* Missing above the ground is an error naming the variable, as everywhere. */
   expect_error("cloud_hole", (layout){.hole = 1, .below = 1}, "'clw' has NaN, Inf or missing values");
   expect_error("geopotential_hole", (layout){.hole = 2, .top_down = 1}, "missing at 50000 Pa above the ground");
