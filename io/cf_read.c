@@ -2,6 +2,7 @@
  * ratios qc qr qi qs qg with pressure prs and potential temperature th; generic CF files name their
  * hydrometeors by standard_name (mass_fraction_of_..._in_air) and their projection by grid_mapping.
  * Both stream through the same level-by-level remap as WRF (remap.c). */
+#include <ctype.h>
 #include <math.h>
 #include <netcdf.h>
 #include <stdio.h>
@@ -189,6 +190,26 @@ static char cf_axis_of(const sl_nc *f, const char *coord)
   return 0;
 }
 
+/* The values of `name` at the first and last index of dimension `zdim` (length n), at index 0 of
+ * every other dimension. 0 when it cannot be read or either is not finite. */
+static int level_ends(const sl_nc *f, const char *name, const char *zdim, size_t n, double ends[2])
+{
+  int id, nd, dims[NC_MAX_VAR_DIMS], at = -1;
+  if (nc_inq_varid(f->id, name, &id) != NC_NOERR || nc_inq_varndims(f->id, id, &nd) != NC_NOERR || nd < 1 ||
+      nd > 4 || nc_inq_vardimid(f->id, id, dims) != NC_NOERR)
+    return 0;
+  size_t index[4] = {0, 0, 0, 0}, len;
+  for (int d = 0; d < nd; ++d) {
+    char dname[NC_MAX_NAME + 1];
+    if (nc_inq_dim(f->id, dims[d], dname, &len) == NC_NOERR && strcmp(dname, zdim) == 0 && len == n) at = d;
+  }
+  if (at < 0) return 0;
+  if (nc_get_var1_double(f->id, id, index, &ends[0]) != NC_NOERR) return 0;
+  index[at] = n - 1;
+  if (nc_get_var1_double(f->id, id, index, &ends[1]) != NC_NOERR) return 0;
+  return isfinite(ends[0]) && isfinite(ends[1]);
+}
+
 static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_error *err)
 {
   memset(L, 0, sizeof *L);
@@ -268,8 +289,8 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
     static const char *const keys[3] = {"a:", "b:", "orog:"};
     for (int t = 0; t < 3; ++t) {
       const char *at = strstr(terms, keys[t]);
-      /* a key starts the string or follows a space ("a:" is also the end of "orog:"'s neighbours) */
-      while (at && at != terms && at[-1] != ' ') at = strstr(at + 1, keys[t]);
+      /* a key starts the string or follows white space (not the tail of another word: "ta:") */
+      while (at && at != terms && !isspace((unsigned char)at[-1])) at = strstr(at + 1, keys[t]);
       if (!at || sscanf(at + strlen(keys[t]), " %256s", L->terms[t]) != 1 || !sl_nc_has_var(f, L->terms[t]))
         return sl_fail(err, SL_ERR_FORMAT,
                        "%s: hybrid height coordinate '%s' needs formula_terms naming a, b and orog variables (has "
@@ -281,28 +302,28 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
   double pa = 0.0, unused;
   if (!L->cm1 && cf_unit_factor(CF_PRESSURE, zunits, &pa, &unused) == 1) L->z_to_pa = pa;
   else if (!L->cm1 && strcmp(zstd, "air_pressure") == 0 && !zunits[0]) L->z_to_pa = 1.0;
-  if (L->z_to_pa == 0.0 && strcasecmp(positive, "down") == 0)
-    return sl_fail(err, SL_ERR_FORMAT,
-                   "%s: vertical coordinate '%s' has positive = \"down\" (a depth): only heights, positive up, are read",
-                   f->path, L->coord[1]);
-  /* Model levels of any other kind are read where a 3-D altitude gives their heights. */
+  /* Model levels of any other kind (sigma, level numbers) are read where a 3-D altitude gives
+   * their heights. */
   char alt[NC_MAX_NAME + 1];
   if (!L->hybrid_height && !(L->z_to_m > 0.0) && L->z_to_pa == 0.0 && !L->cm1 && find_var(f, 0, "", "altitude", alt))
     L->altitude_3d = 1;
+  /* A length counted downward is a depth; pressure and model coordinates say "down" as they like. */
+  if (L->z_to_m > 0.0 && !L->hybrid_height && strcasecmp(positive, "down") == 0)
+    return sl_fail(err, SL_ERR_FORMAT,
+                   "%s: vertical coordinate '%s' has positive = \"down\" (a depth): only heights, positive up, are read",
+                   f->path, L->coord[1]);
   if (!(L->z_to_m > 0.0) && L->z_to_pa == 0.0 && !L->hybrid_height && !L->altitude_3d)
     return sl_fail(err, SL_ERR_FORMAT,
                    "%s: vertical coordinate '%s' (units '%s') is neither a height in m or km, a pressure nor a "
                    "hybrid height, and no variable has standard_name altitude: its heights are unknown",
                    f->path, L->coord[1], zunits);
-  /* Levels listed from the top down (heights decreasing, pressures increasing) are read reversed. */
-  if (L->len[1] > 1) {
-    double ends[2];
-    size_t first = 0, last = L->len[1] - 1;
-    if (nc_inq_varid(f->id, L->coord[1], &zid) == NC_NOERR && sl_nc_var_is_1d(f, zid, L->len[1], NULL) &&
-        nc_get_var1_double(f->id, zid, &first, &ends[0]) == NC_NOERR &&
-        nc_get_var1_double(f->id, zid, &last, &ends[1]) == NC_NOERR)
-      L->flip[1] = L->z_to_pa > 0.0 ? ends[1] > ends[0] : ends[1] < ends[0]; /* model level numbers count up */
-  }
+  /* Levels listed from the top down (heights decreasing, pressures increasing) are read reversed:
+   * judged by the heights themselves where the coordinate is not one (hybrid height: its a term;
+   * other model levels: the first column's altitude; sigma and ECMWF's level numbers count down). */
+  double ends[2];
+  const char *judge = L->hybrid_height ? L->terms[0] : L->altitude_3d ? alt : L->coord[1];
+  if (L->len[1] > 1 && level_ends(f, judge, L->dim[1], L->len[1], ends))
+    L->flip[1] = L->z_to_pa > 0.0 ? ends[1] > ends[0] : ends[1] < ends[0];
   return SL_OK;
 }
 
@@ -463,7 +484,7 @@ static void cf_vertical_words(const sl_nc *f, const cf_layout *L, sl_storm_info 
   }
   if (L->z_to_pa == 0.0) {
     snprintf(info->vertical, sizeof info->vertical, "height levels '%.64s'%s", L->coord[1],
-             L->cm1 && sl_nc_has_var(f, "zf") ? " (interfaces zf)" : "");
+             L->cm1 && !L->flip[1] && sl_nc_has_var(f, "zf") ? " (interfaces zf)" : "");
     return;
   }
   double ends[2] = {NAN, NAN};
@@ -758,7 +779,7 @@ static int cf_hybrid_heights(cf_levels *c, float *z, char *what, sl_error *err)
   const size_t n = L->len[1], n2 = c->n2;
   double *a = malloc(n * sizeof(double)), *b = malloc(n * sizeof(double)), *orog = malloc(n2 * sizeof(double));
   int rc = a && b && orog ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
-  snprintf(what, NC_MAX_NAME + 1, "%s", L->terms[2]);
+  snprintf(what, NC_MAX_NAME + 1, "%s", L->coord[1]);
   if (!rc && (!cf_levels_1d(f, L, L->terms[0], n, a) || !cf_levels_1d(f, L, L->terms[1], n, b)))
     rc = sl_fail(err, SL_ERR_FORMAT, "%s: hybrid height terms '%s' and '%s' must be 1-D along '%s'", f->path,
                  L->terms[0], L->terms[1], L->dim[1]);
@@ -782,7 +803,7 @@ static int cf_hybrid_heights(cf_levels *c, float *z, char *what, sl_error *err)
       for (size_t i = 0; i < nx; ++i) {
         /* the orography in the file's order; the grid's x and y as reversed for the fields */
         const size_t src = (L->flip[2] ? ny - 1 - j : j) * nx + (L->flip[3] ? nx - 1 - i : i);
-        z[k * n2 + j * nx + i] = (float)((a[k] + b[k] * orog[src]) * scale + offset);
+        z[k * n2 + j * nx + i] = (float)(a[k] * scale + offset + b[k] * orog[src]); /* orog already in m */
       }
   free(a);
   free(b);
@@ -833,9 +854,10 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
     whole.s = &all, whole.raw = 1, whole.kb = NULL;
     sl_nc_var geo;
     if ((rc = cf_var(c, name, CF_HEIGHT, &geo, err))) goto done;
-    char units[64] = "";
-    if (!height && !sl_nc_attr_text(f, geo.varid, "units", units, sizeof units))
-      geo.scale /= 9.80665, geo.offset /= 9.80665; /* geopotential without units: SI, m2 s-2 */
+    char units[64] = "", squeezed[64];
+    sl_nc_attr_text(f, geo.varid, "units", units, sizeof units);
+    cf_units_squeezed(units, squeezed, sizeof squeezed);
+    if (!height && !squeezed[0]) geo.scale /= 9.80665, geo.offset /= 9.80665; /* no units: SI, m2 s-2 */
     if ((rc = cf_block(&whole, &geo, z, err))) goto done;
   }
   if (pressure) {

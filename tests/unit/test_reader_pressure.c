@@ -37,17 +37,19 @@ static double pressure_at(int i, int j, double z) { return P0 * pow(1.0 - LAPSE 
 /* Levels 1000, 950, ..., 100 hPa, from the bottom. */
 static double level_hpa(int k) { return 1000.0 - 50.0 * k; }
 
-/* Cloud specific content at level k of column (i, j): a cloud from 850 to 400 hPa, its amount
- * differing per column so that a column read in the wrong place shows. */
+/* Cloud specific content at level k of column (i, j): a cloud from 900 to 400 hPa (900 hPa is
+ * the first level above the ground of the column masked below it), its amount differing per
+ * column so that a column read in the wrong place shows. */
 static double cloud_at(int i, int j, int k)
 {
   const double p = level_hpa(k);
-  return p <= 850.0 && p >= 400.0 ? 1e-4 * (1.0 + i + 2.0 * j) * (1.0 + 0.1 * k) : 0.0;
+  return p <= 900.0 && p >= 400.0 ? 1e-4 * (1.0 + i + 2.0 * j) * (1.0 + 0.1 * k) : 0.0;
 }
 
 typedef struct layout {
   int top_down, north_south, height_var, hpa, ecmwf_name, missing_geo, bad_column, one_level;
-  int below;       /* column (2, 1) masked at 1000 and 950 hPa (below its ground), as CMIP writes */
+  int below;       /* 1: column (2, 1) masked at 1000 and 950 hPa (below its ground), as CMIP writes;
+                      2: every column masked at 1000 hPa */
   int hole;        /* 1: the cloud, 2: the geopotential missing at 500 hPa in column (0, 0) */
 } layout;
 
@@ -117,7 +119,8 @@ static const char *write_storm(const char *name, layout lay)
         geo[k][jf][i] = (float)(lay.height_var ? z : G0 * z);
         ta[k][jf][i] = (float)temperature_at(i, j, pa);
         q[k][jf][i] = 0.0f;
-        if (lay.below && i == 2 && j == 1 && kf < 2) cloud[k][jf][i] = geo[k][jf][i] = ta[k][jf][i] = q[k][jf][i] = FILL;
+        if ((lay.below == 1 && i == 2 && j == 1 && kf < 2) || (lay.below == 2 && kf == 0))
+          cloud[k][jf][i] = geo[k][jf][i] = ta[k][jf][i] = q[k][jf][i] = FILL;
         if (lay.hole && i == 0 && j == 0 && level_hpa(kf) == 500.0) *(lay.hole == 1 ? &cloud[k][jf][i] : &geo[k][jf][i]) = FILL;
       }
   if (lay.bad_column) { /* column (1, 0): the 700 hPa level below the 750 hPa one */
@@ -231,6 +234,19 @@ static void test_orders_and_units(void)
   } else {
     fprintf(stderr, "%s\n", err.message);
   }
+  /* --stride 2 on the ERA5 layout (reversed levels and latitudes): every second column and row of
+   * the file from its first, so columns (0, 1) and (2, 1) of the north row (the file's first),
+   * each with its own water path. */
+  sl_load_options strided = {0};
+  strided.stride = 2;
+  if (CHECK(load(write_storm("strided", (layout){.top_down = 1, .north_south = 1, .hpa = 1, .ecmwf_name = 1}),
+                 &strided, &b, &err) == SL_OK)) {
+    CHECK(b.volume.nx == 2 && b.volume.ny == 1);
+    for (int i = 0; i < 2; ++i) CHECK_CLOSE(sl_test_column_path(&b, i, 0), hydrostatic_path(2 * i, 1, 0, NP), 2e-3, 0.0);
+    sl_storm_frame_free(&b);
+  } else {
+    fprintf(stderr, "%s\n", err.message);
+  }
   /* --levels counts from the bottom: levels 3..10 (850 to 500 hPa) hold the cloud's mass there. */
   sl_load_options opt = {0};
   opt.level_first = 3, opt.level_count = 8;
@@ -265,6 +281,22 @@ static void test_below_ground(void)
       if (!(i == 2 && j == 1)) ground = fmin(ground, 1.5 * height_at(i, j, 1e5) - 0.5 * height_at(i, j, 95000.0));
   CHECK_CLOSE(f.terrain_min, ground, 0.0, 0.05);
   sl_storm_frame_free(&f);
+  /* Every column masked at 1000 hPa: the grid starts halfway between 950 hPa and the 1000 hPa
+   * height extrapolated at 288 K (the documented rule, R_d 287), not half a layer under that. */
+  if (!CHECK(load(write_storm("below_all", (layout){.below = 2}), NULL, &f, &err) == SL_OK)) {
+    fprintf(stderr, "%s\n", err.message);
+    return;
+  }
+  ground = INFINITY;
+  for (int j = 0; j < NY; ++j)
+    for (int i = 0; i < NX; ++i) {
+      const double z950 = (double)(float)(G0 * height_at(i, j, 95000.0)) / G0;
+      const double z1000 = (double)(float)(z950 - 287.0 * 288.0 / G0 * log(1000.0 / 950.0));
+      ground = fmin(ground, 0.5 * (z1000 + z950));
+      CHECK_CLOSE(sl_test_column_path(&f, i, j), hydrostatic_path(i, j, 0, NP), 2e-3, 0.0);
+    }
+  CHECK_CLOSE(f.terrain_min, ground, 0.0, 0.05);
+  sl_storm_frame_free(&f);
 }
 
 /* Terrain-following model levels: the Met Office UM's hybrid height (z = a + b orog, CF appendix
@@ -283,10 +315,14 @@ static double model_height(int i, int j, int k)
 }
 static double model_cloud(int i, int j, int k) { return k >= 3 && k <= 9 ? 2e-4 * (1.0 + i + 2.0 * j) : 0.0; }
 
-static const char *write_model_levels(const char *name, int hybrid)
+/* hybrid: UM hybrid height (else level numbers with an altitude); north_south: latitudes from the
+ * north; km: the hybrid coordinate and its a term in km; top_down: levels listed from the top,
+ * numbered from 1 there (as ECMWF numbers them), positive = "down". */
+static const char *write_model_levels(const char *name, int hybrid, int north_south, int km, int top_down)
 {
-  static char out[2][512];
-  char *path = out[hybrid != 0];
+  static char out[4][512];
+  static int which;
+  char *path = out[which++ % 4];
   snprintf(path, 512, "%s/%s.nc", dir, name);
   int nc, d[4], v_lev, v_b, v_orog, v_alt = -1, v_y, v_x, v_cl, v_p, v_th;
   nc_create(path, NC_NETCDF4, &nc);
@@ -295,17 +331,18 @@ static const char *write_model_levels(const char *name, int hybrid)
   nc_def_dim(nc, "latitude", NY, &d[2]);
   nc_def_dim(nc, "longitude", NX, &d[3]);
   if (hybrid) {
-    put(nc, "model_level_number", 1, d + 1, "atmosphere_hybrid_height_coordinate", "m", &v_lev);
-    const char *terms = "a: level_height b: sigma orog: surface_altitude";
+    put(nc, "model_level_number", 1, d + 1, "atmosphere_hybrid_height_coordinate", km ? "km" : "m", &v_lev);
+    const char *terms = "a: level_height\tb: sigma orog: surface_altitude";
     nc_put_att_text(nc, v_lev, "formula_terms", strlen(terms), terms);
     int v_a;
-    put(nc, "level_height", 1, d + 1, NULL, "m", &v_a);
+    put(nc, "level_height", 1, d + 1, NULL, km ? "km" : "m", &v_a);
     put(nc, "sigma", 1, d + 1, NULL, "1", &v_b);
     put(nc, "surface_altitude", 2, d + 2, "surface_altitude", "m", &v_orog);
   } else {
     put(nc, "model_level_number", 1, d + 1, "model_level_number", "1", &v_lev);
     put(nc, "altitude", 4, d, "altitude", "m", &v_alt);
   }
+  if (top_down) nc_put_att_text(nc, v_lev, "positive", 4, "down");
   put(nc, "latitude", 1, d + 2, "latitude", "degrees_north", &v_y);
   put(nc, "longitude", 1, d + 3, "longitude", "degrees_east", &v_x);
   put(nc, "cl", 4, d, "mass_fraction_of_cloud_liquid_water_in_air", "kg kg-1", &v_cl);
@@ -314,17 +351,24 @@ static const char *write_model_levels(const char *name, int hybrid)
   nc_enddef(nc);
   float lev[NL], lat[NY], lon[NX];
   static float a[NL], b[NL], orog[NY][NX], alt[NL][NY][NX], cl[NL][NY][NX], p[NL][NY][NX], th[NL][NY][NX];
-  for (int k = 0; k < NL; ++k) lev[k] = (float)(hybrid ? hybrid_a(k) : k + 1), a[k] = (float)hybrid_a(k), b[k] = (float)hybrid_b(k);
-  for (int j = 0; j < NY; ++j) lat[j] = (float)(50.0 + 0.02 * j);
+  const double a_unit = km ? 1e-3 : 1.0;
+  for (int k = 0; k < NL; ++k) {
+    const int kf = top_down ? NL - 1 - k : k; /* file level k holds model level kf */
+    lev[k] = (float)(hybrid ? hybrid_a(kf) * a_unit : k + 1), a[k] = (float)(hybrid_a(kf) * a_unit);
+    b[k] = (float)hybrid_b(kf);
+  }
+  for (int j = 0; j < NY; ++j) lat[j] = (float)(north_south ? 50.02 - 0.02 * j : 50.0 + 0.02 * j);
   for (int i = 0; i < NX; ++i) lon[i] = (float)(-3.0 + 0.03 * i);
   for (int k = 0; k < NL; ++k)
-    for (int j = 0; j < NY; ++j)
+    for (int jf = 0; jf < NY; ++jf)
       for (int i = 0; i < NX; ++i) {
-        orog[j][i] = (float)orography(i, j);
-        const double z = hybrid_a(k) + (double)(float)hybrid_b(k) * orog[j][i]; /* as the reader forms it */
+        const int kf = top_down ? NL - 1 - k : k, j = north_south ? NY - 1 - jf : jf;
+        orog[jf][i] = (float)orography(i, j);
+        /* the heights as the reader forms them from the file's floats */
+        const double z = (double)(float)(hybrid_a(kf) * a_unit) / a_unit + (double)(float)hybrid_b(kf) * orog[jf][i];
         const double pa = pressure_at(i, j, z), t = temperature_at(i, j, pa);
-        alt[k][j][i] = (float)z, cl[k][j][i] = (float)model_cloud(i, j, k), p[k][j][i] = (float)pa;
-        th[k][j][i] = (float)(t * pow(1e5 / pa, 2.0 / 7.0));
+        alt[k][jf][i] = (float)z, cl[k][jf][i] = (float)model_cloud(i, j, kf), p[k][jf][i] = (float)pa;
+        th[k][jf][i] = (float)(t * pow(1e5 / pa, 2.0 / 7.0));
       }
   nc_put_var_float(nc, v_lev, lev);
   if (hybrid) {
@@ -347,11 +391,15 @@ static const char *write_model_levels(const char *name, int hybrid)
 
 static void test_model_levels(void)
 {
-  const char *paths[2] = {write_model_levels("um_hybrid", 1), write_model_levels("altitude", 0)};
-  const char *words[2] = {"hybrid height", "heights from altitude"};
-  sl_storm_frame f[2];
-  int ok[2];
-  for (int v = 0; v < 2; ++v) {
+  /* Plain; then the hybrid's a in km over latitudes from the north, and the altitude's levels
+   * numbered from the top with positive = "down" (sigma's and ECMWF's order). */
+  const char *paths[4] = {write_model_levels("um_hybrid", 1, 0, 0, 0), write_model_levels("altitude", 0, 0, 0, 0),
+                          write_model_levels("um_hybrid_km_ns", 1, 1, 1, 0),
+                          write_model_levels("altitude_top_down", 0, 0, 0, 1)};
+  const char *words[4] = {"hybrid height", "heights from altitude", "hybrid height", "heights from altitude"};
+  sl_storm_frame f[4];
+  int ok[4];
+  for (int v = 0; v < 4; ++v) {
     sl_error err = {0};
     sl_storm_info info;
     ok[v] = CHECK(sl_storm_read_info(paths[v], &info, &err) == SL_OK) && CHECK(strstr(info.vertical, words[v]) != NULL) &&
@@ -376,12 +424,13 @@ static void test_model_levels(void)
     /* The grid starts half a layer under the lowest level of the lowest column (orography 0). */
     CHECK_CLOSE(f[v].terrain_min, 1.5 * hybrid_a(0) - 0.5 * hybrid_a(1), 0.0, 0.05);
   }
-  if (ok[0] && ok[1]) {
-    for (int j = 0; j < NY; ++j)
-      for (int i = 0; i < NX; ++i)
-        CHECK_CLOSE(sl_test_column_path(&f[0], i, j), sl_test_column_path(&f[1], i, j), 1e-5, 0.0);
-  }
-  for (int v = 0; v < 2; ++v)
+  for (int v = 1; v < 4; ++v)
+    if (ok[0] && ok[v]) {
+      for (int j = 0; j < NY; ++j)
+        for (int i = 0; i < NX; ++i)
+          CHECK_CLOSE(sl_test_column_path(&f[0], i, j), sl_test_column_path(&f[v], i, j), 1e-5, 0.0);
+    }
+  for (int v = 0; v < 4; ++v)
     if (ok[v]) sl_storm_frame_free(&f[v]);
 }
 
