@@ -948,6 +948,9 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if (rc) return rc;
   if (opt && opt->has_region) return sl_fail(err, SL_ERR_ARG, "%s: --region needs a WRF file (XLAT/XLONG)", f->path);
   frame->memory_estimate = sl_storm_memory_estimate(info, opt);
+  /* Heights by column (cf_column_levels): every level's height (float) and the interfaces (double). */
+  if (L.z_to_pa > 0.0 || L.hybrid_height || L.altitude_3d)
+    frame->memory_estimate += (double)info->nx * info->ny * (info->nz * sizeof(float) + (info->nz + 1) * sizeof(double));
   if ((rc = sl_check_memory(f->path, frame->memory_estimate, opt, err))) return rc;
   sl_subset s = {0, 0, opt && opt->stride > 1 ? opt->stride : 1, 0, 0, opt ? opt->level_first : 0, 0};
   s.nx = (info->nx - 1) / s.stride + 1, s.ny = (info->ny - 1) / s.stride + 1;
