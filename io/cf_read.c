@@ -274,8 +274,8 @@ static int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_er
       (rc = axis_spacing(f, L->coord[2], L->len[2], 0, L->cm1, &L->y_to_m, &L->dy, &L->lat0, &L->flip[2], err)))
     return rc;
   if (L->x_to_m == 0.0) L->dx *= cos(L->lat0 * M_PI / 180.0);
-  /* Vertical: a height (m or km, up), or pressure levels (their heights from a geopotential on the
-   * same grid, read at load); other vertical coordinates are not read. */
+  /* Vertical: a height (m or km, up); or, with heights by column read at load, pressure levels (a
+   * geopotential on the same grid), hybrid height (a + b orog) or any levels with a 3-D altitude. */
   char zunits[64] = "", zstd[128] = "", positive[16] = "";
   coord_values(f, L->coord[1], L->len[1], NULL, zunits, sizeof zunits, zstd, sizeof zstd);
   if (L->cm1 && !zunits[0]) snprintf(zunits, sizeof zunits, "km");
@@ -467,8 +467,8 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
   free(v);
 }
 
-/* What `info` says of the vertical: height levels, or pressure levels and the variable that
- * gives their heights. */
+/* What `info` says of the vertical: height levels, hybrid height, model levels with an altitude,
+ * or pressure levels and the variable that gives their heights. */
 static void cf_vertical_words(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
 {
   char alt[NC_MAX_NAME + 1] = "";
@@ -488,12 +488,7 @@ static void cf_vertical_words(const sl_nc *f, const cf_layout *L, sl_storm_info 
     return;
   }
   double ends[2] = {NAN, NAN};
-  const size_t last = L->len[1] - 1, first = 0;
-  int id;
-  if (nc_inq_varid(f->id, L->coord[1], &id) == NC_NOERR) {
-    nc_get_var1_double(f->id, id, &first, &ends[0]);
-    nc_get_var1_double(f->id, id, &last, &ends[1]);
-  }
+  level_ends(f, L->coord[1], L->dim[1], L->len[1], ends);
   char name[NC_MAX_NAME + 1] = "";
   const char *source = find_var(f, 0, "", "geopotential_height", name) ? "geopotential_height"
                        : find_var(f, 0, "", "geopotential", name)      ? "geopotential"
@@ -537,9 +532,9 @@ typedef struct cf_levels {
   int t;
   size_t n2;
   double *z_iface;      /* interfaces of the whole column, m (height levels) */
-  double *z_cols;       /* pressure levels: the subset's interfaces per column, [k][y][x], m */
+  double *z_cols;       /* heights by column (cf_column_levels): the subset's interfaces, [k][y][x], m */
   double *p_level;      /* pressure levels: each subset level's pressure, Pa, from the bottom */
-  int *kb;              /* pressure levels: per column the first level above the ground (levels
+  int *kb;              /* heights by column: per column the first level above the ground (levels
                            below it may be missing: no air, no cloud), counted from the file's bottom */
   int raw;              /* cf_block leaves missing values NaN */
   sl_nc_var rho, p, temp, theta, qv;
@@ -604,7 +599,8 @@ static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
     float *a = out + k * plane, *b = out + (nz - 1 - k) * plane;
     for (size_t i = 0; i < plane; ++i) t = a[i], a[i] = b[i], b[i] = t;
   }
-  /* Below the ground of a pressure grid a missing value is no air and no cloud; above it, an error. */
+  /* Below a column's ground (heights by column) a missing value is no air and no cloud; above it,
+   * an error. */
   for (size_t k = 0; c->kb && k < nz; ++k)
     for (size_t i = 0; i < plane; ++i)
       if (!isfinite(out[k * plane + i])) {
@@ -711,50 +707,6 @@ static int find_var(const sl_nc *f, int cm1, const char *cm1_name, const char *s
   return 0;
 }
 
-/* Interfaces of the 1-D height levels: zf when the file has it (CM1), else midpoints between
- * levels, the outer interfaces half a layer beyond the outer levels. */
-static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *err)
-{
-  const size_t n = L->len[1];
-  double *zh = malloc(n * sizeof(double));
-  if (!zh) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
-  char u[8], s[8];
-  if (!coord_values(f, L->coord[1], n, zh, u, sizeof u, s, sizeof s)) {
-    free(zh);
-    return sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the heights", f->path, L->coord[1]);
-  }
-  for (size_t k = 0; L->flip[1] && k < n / 2; ++k) {
-    const double t = zh[k];
-    zh[k] = zh[n - 1 - k], zh[n - 1 - k] = t;
-  }
-  int zf;
-  size_t zn = 0;
-  int nd = 0, dimid;
-  if (L->cm1 && !L->flip[1] && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
-      nc_inq_vardimid(f->id, zf, &dimid) == NC_NOERR && nc_inq_dimlen(f->id, dimid, &zn) == NC_NOERR && zn == n + 1) {
-    size_t start = 0;
-    if (nc_get_vara_double(f->id, zf, &start, &zn, zi) != NC_NOERR) {
-      free(zh);
-      return sl_fail(err, SL_ERR_FORMAT, "%s: cannot read the interface heights 'zf'", f->path);
-    }
-  } else {
-    /* A single level stands for the layer from the ground (0) to twice its height. */
-    for (size_t k = 1; k < n; ++k) zi[k] = 0.5 * (zh[k - 1] + zh[k]);
-    zi[0] = n > 1 ? zh[0] - (zi[1] - zh[0]) : 0.0;
-    zi[n] = n > 1 ? zh[n - 1] + (zh[n - 1] - zi[n - 1]) : 2.0 * zh[0];
-  }
-  for (size_t k = 0; k <= n; ++k) zi[k] *= L->z_to_m;
-  free(zh);
-  for (size_t k = 0; k < n; ++k)
-    if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->coord[1]);
-  /* Weather lies below the stratopause; a grid reaching past 100 km (or 10 km below the sea) is
-   * metres labelled km, or not heights at all (the horizontal spacing has its own bound). */
-  if (!(zi[n] <= 1e5) || !(zi[0] >= -1e4))
-    return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' span %g to %g m, not an atmosphere (are its units right?)",
-                   f->path, L->coord[1], zi[0], zi[n]);
-  return SL_OK;
-}
-
 /* Reads a 1-D variable of n values along the vertical, reversed with the levels. 0 when absent. */
 static int cf_levels_1d(const sl_nc *f, const cf_layout *L, const char *name, size_t n, double *v)
 {
@@ -768,6 +720,52 @@ static int cf_levels_1d(const sl_nc *f, const cf_layout *L, const char *name, si
     v[k] = v[n - 1 - k], v[n - 1 - k] = t;
   }
   return 1;
+}
+
+/* Interfaces zi[0..n] of n level heights zh (from the bottom): midpoints between levels, the outer
+ * interfaces half a layer beyond the outer levels; a single level stands for the layer from the
+ * ground (0) to twice its height. */
+static void level_interfaces(const double *zh, size_t n, double *zi)
+{
+  for (size_t k = 1; k < n; ++k) zi[k] = 0.5 * (zh[k - 1] + zh[k]);
+  zi[0] = n > 1 ? zh[0] - (zi[1] - zh[0]) : 0.0;
+  zi[n] = n > 1 ? zh[n - 1] + (zh[n - 1] - zi[n - 1]) : 2.0 * zh[0];
+}
+
+/* Interfaces of the 1-D height levels: zf when the file has it (CM1), else midpoints between
+ * levels, the outer interfaces half a layer beyond the outer levels. */
+static int cf_heights(const sl_nc *f, const cf_layout *L, double *zi, sl_error *err)
+{
+  const size_t n = L->len[1];
+  double *zh = malloc(n * sizeof(double));
+  if (!zh) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  if (!cf_levels_1d(f, L, L->coord[1], n, zh)) {
+    free(zh);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: no 1-D coordinate variable '%s' for the heights", f->path, L->coord[1]);
+  }
+  int zf;
+  size_t zn = 0;
+  int nd = 0, dimid;
+  if (L->cm1 && !L->flip[1] && nc_inq_varid(f->id, "zf", &zf) == NC_NOERR && nc_inq_varndims(f->id, zf, &nd) == NC_NOERR && nd == 1 &&
+      nc_inq_vardimid(f->id, zf, &dimid) == NC_NOERR && nc_inq_dimlen(f->id, dimid, &zn) == NC_NOERR && zn == n + 1) {
+    size_t start = 0;
+    if (nc_get_vara_double(f->id, zf, &start, &zn, zi) != NC_NOERR) {
+      free(zh);
+      return sl_fail(err, SL_ERR_FORMAT, "%s: cannot read the interface heights 'zf'", f->path);
+    }
+  } else {
+    level_interfaces(zh, n, zi);
+  }
+  for (size_t k = 0; k <= n; ++k) zi[k] *= L->z_to_m;
+  free(zh);
+  for (size_t k = 0; k < n; ++k)
+    if (!(zi[k + 1] > zi[k])) return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' do not increase", f->path, L->coord[1]);
+  /* Weather lies below the stratopause; a grid reaching past 100 km (or 10 km below the sea) is
+   * metres labelled km, or not heights at all (the horizontal spacing has its own bound). */
+  if (!(zi[n] <= 1e5) || !(zi[0] >= -1e4))
+    return sl_fail(err, SL_ERR_DATA, "%s: heights '%s' span %g to %g m, not an atmosphere (are its units right?)",
+                   f->path, L->coord[1], zi[0], zi[n]);
+  return SL_OK;
 }
 
 /* Hybrid height (CF appendix D, atmosphere_hybrid_height_coordinate; the Met Office UM's levels):
@@ -834,13 +832,13 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
   if (n < 2)
     return sl_fail(err, SL_ERR_FORMAT, "%s: one %s level has no thickness: such a grid needs two or more", f->path,
                    pressure ? "pressure" : "model");
-  double *p = malloc(n * sizeof(double));
+  double *p = malloc(n * sizeof(double)), *zh = malloc((2 * n + 1) * sizeof(double)), *zi = zh + n;
   float *z = malloc(n * n2 * sizeof(float));
   c->z_cols = malloc((nz + 1) * n2 * sizeof(double));
   c->p_level = pressure ? malloc(nz * sizeof(double)) : NULL;
   c->kb = malloc(n2 * sizeof(int));
   int rc = SL_OK;
-  if (!p || !z || !c->z_cols || (pressure && !c->p_level) || !c->kb) {
+  if (!p || !zh || !z || !c->z_cols || (pressure && !c->p_level) || !c->kb) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
     goto done;
   }
@@ -910,13 +908,9 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
                      z[k * n2 + i]);
         goto done;
       }
-    const float *zc = z + i; /* this column's level heights, n2 apart */
-    for (size_t k = 0; k <= nz; ++k) {
-      const size_t kk = (size_t)k0 + k; /* interface kk lies below level kk */
-      c->z_cols[k * n2 + i] = kk == 0   ? 1.5 * zc[0] - 0.5 * zc[n2]
-                              : kk == n ? 1.5 * zc[(n - 1) * n2] - 0.5 * zc[(n - 2) * n2]
-                                        : 0.5 * ((double)zc[(kk - 1) * n2] + zc[kk * n2]);
-    }
+    for (size_t k = 0; k < n; ++k) zh[k] = z[k * n2 + i];
+    level_interfaces(zh, n, zi); /* interface kk lies below level kk */
+    for (size_t k = 0; k <= nz; ++k) c->z_cols[k * n2 + i] = zi[(size_t)k0 + k];
   }
   *ground = INFINITY, *top = -INFINITY;
   /* The grid starts at the lowest interface above the ground (the layers below hold nothing). */
@@ -933,6 +927,7 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
   for (size_t k = 0; pressure && k < nz; ++k) c->p_level[k] = p[(size_t)k0 + k];
 done:
   free(p);
+  free(zh);
   free(z);
   return rc;
 }
