@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # First set-up command: installs Debian 12 packages (as root, or through sudo), builds Stormlight,
-# and renders the bundled sample storm into out/ (EXR and PNG).
+# and renders two of Stormlight's own synthetic storms (datasets/) into out/ (EXR and PNG).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,6 +24,5 @@ cmake --build build/release -j"$(nproc)"
 mkdir -p out
 sl=build/release/app/stormlight
 xvfb-run -a "$sl" render datasets/cumulonimbus.nc --out out/cumulonimbus.exr,out/cumulonimbus.png
-xvfb-run -a "$sl" render datasets/wrf_katrina2005_d02_mercator_wsm3_4t.nc \
-  --out out/katrina.exr,out/katrina.png --time 2 --view-elevation 25 --fov 30
-echo "done: out/cumulonimbus.png, out/katrina.png (and .exr); the executable is $sl"
+xvfb-run -a "$sl" render datasets/stratocumulus.nc --out out/stratocumulus.exr,out/stratocumulus.png
+echo "done: out/cumulonimbus.png, out/stratocumulus.png (and .exr); the executable is $sl"

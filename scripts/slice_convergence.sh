@@ -16,7 +16,7 @@ run() {
   printf '%-16s %s\n' "$name" "$("$S" compare "$work/$name.exr" "$work/$name.2048.exr" --threshold 1 | awk '{print $3}')"
 }
 run default datasets/cumulonimbus.nc
-run katrina datasets/wrf_katrina2005_d02_mercator_wsm3_4t.nc
+run katrina ../shared/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc
 run sunrise datasets/cumulonimbus.nc --sun-azimuth 90 --sun-elevation 2 --view-azimuth 180 --view-elevation 4
 run reg128 datasets/cumulonimbus.nc --width 128 --height 128 --slices 128
 for s in fig5_rainbow fig4_glory fig11_dawn fig9_storm_sky fig6_halo fig13_low_albedo; do

@@ -2,10 +2,12 @@
 # A time series of the real Katrina file (issue 9): 4 frames and a movie; interrupted, the rerun
 # renders only what is missing; 2 MPI ranks write the same bytes as one; a series frame is the
 # single render of its time; a camera path from scene keys. Small images keep it to seconds.
-# Usage: series.sh STORMLIGHT WORK DATASETS [MPIEXEC]   (VTK composites: run under xvfb-run)
+# Usage: series.sh STORMLIGHT WORK SHARED [MPIEXEC]   (VTK composites: run under xvfb-run)
+# SHARED is the shared folder beside the checkout (../shared), which holds the real data.
 set -uo pipefail
-sl=$1 work=$2 datasets=$3 mpiexec=${4:-}
-katrina=$datasets/wrf_katrina2005_d02_mercator_wsm3_4t.nc
+sl=$1 work=$2 shared=$3 mpiexec=${4:-}
+katrina=$shared/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc
+[ -f "$katrina" ] || { echo "series: no $katrina (the shared data beside the checkout)" >&2; exit 1; }
 rm -rf "$work" && mkdir -p "$work"
 source "$(dirname "$0")/check.sh"
 small=(--width 48 --height 36 --slices 48 --light-resolution 64)

@@ -43,6 +43,8 @@ if [ -f "$katrina" ]; then
   then echo "Katrina --curvature drop GPU vs CPU light volume: $result"
   else echo "FAIL Katrina --curvature drop GPU vs CPU light volume: $result"; status=1
   fi
+else
+  echo "FAIL no $katrina (the shared data beside the checkout)"; status=1
 fi
 # A model the GPU path does not carry (16 wavelengths) falls back to the CPU with one line.
 "$sl" render --scene "$scenes/fig6_halo.json" --width 16 --height 12 --quiet --wavelengths spectral --gpu \
