@@ -262,8 +262,13 @@ void Progress::done()
 
 void declare_load_options(Options &o)
 {
-  o.option("field", "TYPE=VAR,...", "feed particle TYPE (cloud, rain, ice, snow) from file variable VAR instead of\n"
-           "the scheme's mapping (VAR 'none': leave TYPE out); see docs/DATA.md");
+  o.option("field", "TYPE=VAR,...", "feed particle TYPE (cloud, rain, ice, snow, graupel, hail) from file variable VAR\n"
+           "instead of the scheme's mapping (VAR 'none': leave TYPE out; CM1 run with ihail=1: hail=qg); see docs/DATA.md");
+  o.option("particles", "sizes|representative", "sizes: each cell's effective radius from the scheme's size distribution\n"
+           "and number concentration scales its extinction; representative: one particle per type (Riley et al. 2004)",
+           "sizes");
+  o.option("droplet-number", "CM3", "cloud droplets per cm^3 where the file writes no droplet number (CM1's namelist\n"
+           "ndcnst; default: the scheme's, Morrison 250, Thompson 100)");
   o.option("region", "LAT0,LAT1,LON0,LON1", "read only the grid columns inside these latitudes/longitudes (WRF)");
   o.option("levels", "K0:K1", "read only model levels K0..K1 (0-based, inclusive)");
   o.option("stride", "N", "read every N-th column in x and y", "1");
@@ -299,12 +304,24 @@ bool parse_load_options(Options &o, LoadOptions *out, std::string *error)
       const size_t eq = item.find('=');
       const int type = eq == std::string::npos ? -1 : sl_particle_from_name(item.substr(0, eq).c_str());
       if (type < 0 || eq + 1 >= item.size()) {
-        *error = "--field: '" + item + "' is not TYPE=VARIABLE with TYPE one of cloud, rain, ice, snow";
+        *error = "--field: '" + item + "' is not TYPE=VARIABLE with TYPE one of cloud, rain, ice, snow, graupel, hail";
         return false;
       }
       out->fields[type] = item.substr(eq + 1);
       lo.field_variable[type] = out->fields[type].c_str();
     }
+  }
+  const std::string particles = o.str("particles");
+  if (particles != "sizes" && particles != "representative") {
+    *error = "--particles: '" + particles + "' is neither 'sizes' nor 'representative'";
+    return false;
+  }
+  lo.representative_particles = particles == "representative";
+  if (o.has("droplet-number")) {
+    double n;
+    if (!o.number("droplet-number", &n)) return *error = o.error(), false;
+    if (!(n > 0.0 && n <= 1e5)) return *error = "--droplet-number: " + o.str("droplet-number") + " is not 0..1e5 per cm^3", false;
+    lo.droplet_number_m3 = n * 1e6;
   }
   if (o.has("region")) {
     std::vector<double> r;

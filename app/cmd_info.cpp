@@ -51,6 +51,30 @@ std::string species_types(const sl_species &sp)
          sl_particle_name((sl_particle)sp.cold) + " below";
 }
 
+// Where a species' sizes come from, in words: the scheme's distribution and whether its number is
+// read, the scheme's fixed number, or the representative particle.
+std::string species_sizes(const sl_species &sp, const sl_field_stats &st)
+{
+  char text[512];
+  const sl_gamma_distribution &d = sp.sizes;
+  if (!(d.density_kg_m3 > 0.0)) {
+    std::snprintf(text, sizeof text, "representative particle (%s)",
+                  sl_particle_properties((sl_particle)sp.warm)->mass_source);
+    return text;
+  }
+  std::string number = sp.number_variable[0] ? std::string("N read from ") + sp.number_variable
+                       : d.fixed_number_m3 > 0.0 ? "N assumed " + std::to_string((int)std::lround(d.fixed_number_m3 * 1e-6)) + " cm^-3"
+                                                 : "no N: representative particle";
+  int len = std::snprintf(text, sizeof text, "%s; %s", d.source, number.c_str());
+  if (st.r_eff_max > 0.0)
+    len += std::snprintf(text + len, sizeof text - (size_t)len, "; r_eff %.3g..%.3g um where q > 1e-6",
+                         st.r_eff_min * 1e6, st.r_eff_max * 1e6);
+  if (st.number_negative || st.number_missing)
+    std::snprintf(text + len, sizeof text - (size_t)len, "; N negative in %ld cells (clamped), zero beside q in %ld",
+                  st.number_negative, st.number_missing);
+  return text;
+}
+
 }  // namespace
 
 int sl_cmd_info(int argc, char **argv)
@@ -151,6 +175,19 @@ int sl_cmd_info(int argc, char **argv)
       if (sp.cold != sp.warm) cJSON_AddStringToObject(e, "type_below_0C", sl_particle_name((sl_particle)sp.cold));
       if (sp.number_variable[0]) cJSON_AddStringToObject(e, "number_variable", sp.number_variable);
       cJSON_AddNumberToObject(e, "negative_clamped", (double)frame.species_stats[i].negative_count);
+      const sl_field_stats &st = frame.species_stats[i];
+      cJSON *sizes = cJSON_AddObjectToObject(e, "sizes");
+      const bool sized = sp.sizes.density_kg_m3 > 0.0 && (sp.number_variable[0] || sp.sizes.fixed_number_m3 > 0.0);
+      cJSON_AddStringToObject(sizes, "distribution", sized ? sp.sizes.source : "representative particle");
+      cJSON_AddStringToObject(sizes, "number", sp.number_variable[0] ? "read" : sized ? "assumed" : "none");
+      if (sized && !sp.number_variable[0]) cJSON_AddNumberToObject(sizes, "assumed_number_m3", sp.sizes.fixed_number_m3);
+      if (sized) cJSON_AddNumberToObject(sizes, "density_kg_m3", sp.sizes.density_kg_m3);
+      if (st.r_eff_max > 0.0) {
+        cJSON_AddNumberToObject(sizes, "r_eff_min_m", st.r_eff_min);
+        cJSON_AddNumberToObject(sizes, "r_eff_max_m", st.r_eff_max);
+      }
+      cJSON_AddNumberToObject(sizes, "number_negative_clamped", (double)st.number_negative);
+      cJSON_AddNumberToObject(sizes, "number_zero_beside_mass", (double)st.number_missing);
       cJSON_AddItemToArray(species, e);
     }
     cJSON *mem = cJSON_AddObjectToObject(root, "memory");
@@ -159,6 +196,10 @@ int sl_cmd_info(int argc, char **argv)
     cJSON *times = cJSON_AddArrayToObject(root, "times");
     for (int i = 0; i < info->ntimes; ++i)
       cJSON_AddItemToArray(times, info->has_times ? cJSON_CreateString(info->times[i]) : cJSON_CreateNumber(i));
+    if (!info->has_times && info->has_elapsed) {
+      cJSON *elapsed = cJSON_AddArrayToObject(root, "elapsed_seconds");
+      for (int i = 0; i < info->ntimes; ++i) cJSON_AddItemToArray(elapsed, cJSON_CreateNumber(info->elapsed_s[i]));
+    }
     cJSON_AddStringToObject(root, "calendar", info->calendar);
     cJSON_AddNumberToObject(root, "time_index", (double)t);
     cJSON *fields = cJSON_AddObjectToObject(root, "fields");
@@ -183,11 +224,19 @@ int sl_cmd_info(int argc, char **argv)
                 frame.model_top);
     std::printf("levels      %s\n", info->vertical);
     std::printf("uniform     %d x %d x %d samples, dz %.1f m\n", v.nx, v.ny, v.nz, v.spacing[2]);
-    std::printf("projection  %s (MAP_PROJ %d), truelat %g/%g, stand_lon %g; centre %.4f N %.4f E\n",
-                projection_name(info->map_proj), info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
-                frame.center_lat, frame.center_lon);
+    if (std::isfinite(frame.center_lat) && info->map_proj > 0)
+      std::printf("projection  %s (MAP_PROJ %d), truelat %g/%g, stand_lon %g; centre %.4f N %.4f E\n",
+                  projection_name(info->map_proj), info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
+                  frame.center_lat, frame.center_lon);
+    else if (std::isfinite(frame.center_lat))
+      std::printf("projection  %s; centre %.4f N %.4f E\n", projection_name(info->map_proj), frame.center_lat,
+                  frame.center_lon);
+    else
+      std::printf("projection  none: a flat Cartesian grid with no place on the earth (render places it with "
+                  "--origin LAT,LON, the sun with --date or --sun-azimuth/--sun-elevation)\n");
     std::printf("format      %s, %s\n", storm_kind_name(info->kind), netcdf_format_name(info->format));
-    std::printf("physics     %s (MP_PHYSICS %d)\n", info->scheme, info->mp_physics);
+    if (info->mp_physics >= 0) std::printf("physics     %s (MP_PHYSICS %d)\n", info->scheme, info->mp_physics);
+    else std::printf("physics     %s\n", info->scheme);
     std::printf("memory      a load needs about %.1f MB (available %.1f GB)\n", frame.memory_estimate / 1e6,
                 sl_machine_memory() / 1e9);
     const sl_georef &g = frame.georef;
@@ -213,15 +262,20 @@ int sl_cmd_info(int argc, char **argv)
     std::printf("times       %d", info->ntimes);
     if (std::strcmp(info->calendar, "standard") != 0) std::printf(" (calendar %s)", info->calendar);
     std::printf(":");
-    for (int i = 0; i < info->ntimes && i < 8; ++i) std::printf(" %s", info->has_times ? info->times[i] : "(index only)");
+    for (int i = 0; i < info->ntimes && i < 8; ++i) {
+      if (info->has_times) std::printf(" %s", info->times[i]);
+      else if (info->has_elapsed) std::printf(" %g s", info->elapsed_s[i]);
+      else std::printf(" (index only)");
+    }
+    if (!info->has_times && info->has_elapsed) std::printf(" since the run's start (no date: --date gives the start)");
     std::printf("%s\n", info->ntimes > 8 ? " ..." : "");
     std::printf("fields at time %ld (kg/kg):\n", t);
     for (int p = 0; p < frame.nspecies; ++p) {
       const sl_field_stats &s = frame.species_stats[p];
       const sl_species &sp = frame.species[p];
-      std::printf("  %-9s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld  %s -> %s%s%s\n", sp.variable,
-                  s.q_min, s.q_max, s.q_mean, s.negative_count, sp.kind, species_types(sp).c_str(),
-                  sp.number_variable[0] ? ", number from " : "", sp.number_variable);
+      std::printf("  %-9s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld  %s -> %s\n", sp.variable,
+                  s.q_min, s.q_max, s.q_mean, s.negative_count, sp.kind, species_types(sp).c_str());
+      std::printf("  %-9s sizes: %s\n", "", species_sizes(sp, s).c_str());
     }
   }
   sl_storm_frame_free(&frame);

@@ -1,6 +1,7 @@
 #include "render_scene.h"
 
 #include <cmath>
+#include <ctime>
 #include <memory>
 
 #include "scene.h"
@@ -79,6 +80,20 @@ bool frame_solar_position(const std::string &file, long time_index, const sl_sto
   *no_times = false;
   if (date) {
     when = *date;
+    // A run that counts seconds from its start (CM1) starts at --date: each time adds its seconds.
+    std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+    sl_error err{};
+    if (sl_storm_read_info(file.c_str(), info.get(), &err) == SL_OK && !info->has_times && info->has_elapsed &&
+        time_index >= 0 && time_index < info->ntimes && info->elapsed_s[time_index] != 0.0) {
+      struct tm tm{};
+      tm.tm_year = when.year - 1900, tm.tm_mon = when.month - 1, tm.tm_mday = when.day;
+      tm.tm_hour = when.hour, tm.tm_min = when.minute;
+      const double seconds = when.second + info->elapsed_s[time_index];
+      const double whole = std::floor(seconds);
+      time_t t = timegm(&tm) + (time_t)whole;
+      gmtime_r(&t, &tm);
+      when = {tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec + (seconds - whole)};
+    }
   } else {
     std::unique_ptr<sl_storm_info> info(new sl_storm_info);
     sl_error err{};

@@ -3,6 +3,7 @@
 #include <cjson/cJSON.h>
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -186,7 +187,10 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     }
     ranks.broadcast(origin_ll, 3);
     if (origin_ll[2] != 0) return lead ? fail(cmd, load_error) : 1;
-    origin = number_text(origin_ll[0]) + "," + number_text(origin_ll[1]);
+    // A grid with no place (CM1's flat plane) has no centre to keep: its frames share the grid's
+    // own axes already, and the sun comes from its angles.
+    if (std::isfinite(origin_ll[0]) && std::isfinite(origin_ll[1]))
+      origin = number_text(origin_ll[0]) + "," + number_text(origin_ll[1]);
   }
 
   const bool set_threads = ranks.parallel() && !o.has("threads");

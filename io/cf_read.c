@@ -65,7 +65,7 @@ static double length_scale(const char *units)
 static int is_degrees(const char *units) { return strncmp(units, "degree", 6) == 0; }
 
 /* What a variable measures, for its units. */
-typedef enum cf_quantity { CF_MASS_FRACTION, CF_PRESSURE, CF_TEMPERATURE, CF_DENSITY, CF_HEIGHT } cf_quantity;
+typedef enum cf_quantity { CF_MASS_FRACTION, CF_PRESSURE, CF_TEMPERATURE, CF_DENSITY, CF_HEIGHT, CF_NUMBER_PER_MASS } cf_quantity;
 
 /* A units string without spaces, '*' and '^' (so "kg kg-1", "kg kg**-1" and "kg kg^-1" read alike). */
 static void cf_units_squeezed(const char *in, char *out, size_t cap)
@@ -100,6 +100,10 @@ static int cf_unit_factor(cf_quantity q, const char *units, double *scale, doubl
       {CF_HEIGHT, "meter", 1, 0},           {CF_HEIGHT, "meters", 1, 0},          {CF_HEIGHT, "metre", 1, 0},
       {CF_HEIGHT, "metres", 1, 0},          {CF_HEIGHT, "km", 1000, 0},           {CF_HEIGHT, "m2s-2", 1 / 9.80665, 0},
       {CF_HEIGHT, "m2/s2", 1 / 9.80665, 0},
+      /* Number mixing ratios of two-moment schemes (CM1 writes "#/kg"). */
+      {CF_NUMBER_PER_MASS, "#/kg", 1, 0},   {CF_NUMBER_PER_MASS, "kg-1", 1, 0},   {CF_NUMBER_PER_MASS, "#kg-1", 1, 0},
+      {CF_NUMBER_PER_MASS, "1/kg", 1, 0},   {CF_NUMBER_PER_MASS, "/kg", 1, 0},    {CF_NUMBER_PER_MASS, "1kg-1", 1, 0},
+      {CF_NUMBER_PER_MASS, "#/g", 1e3, 0},  {CF_NUMBER_PER_MASS, "g-1", 1e3, 0},
   };
   char squeezed[128];
   cf_units_squeezed(units, squeezed, sizeof squeezed);
@@ -446,6 +450,20 @@ static void cf_times(const sl_nc *f, const cf_layout *L, sl_storm_info *info)
   else if (strncmp(units, "hour", 4) == 0) per = 3600;
   else if (strncmp(units, "day", 3) == 0) per = 86400;
   int base[6] = {0};
+  if (!since && per > 0) {
+    /* Elapsed time without a date (CM1): kept as seconds, for the series' order and --date. */
+    double *v = malloc((size_t)info->ntimes * sizeof(double));
+    size_t start = 0, count = (size_t)info->ntimes;
+    if (v && nc_get_vara_double(f->id, id, &start, &count, v) == NC_NOERR) {
+      info->has_elapsed = 1;
+      for (int t = 0; t < info->ntimes; ++t) {
+        info->elapsed_s[t] = v[t] * per;
+        if (!isfinite(info->elapsed_s[t])) info->has_elapsed = 0;
+      }
+    }
+    free(v);
+    return;
+  }
   if (!since || per == 0 || cal == SL_CAL_UNKNOWN ||
       sscanf(since + 7, "%d-%d-%d%*[ _T]%d:%d:%d", &base[0], &base[1], &base[2], &base[3], &base[4], &base[5]) < 3 ||
       !sl_calendar_valid(cal, base))
@@ -505,8 +523,10 @@ int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err)
   int rc = cf_layout_of(f, &L, info, err);
   if (rc) return rc;
   info->kind = L.cm1 ? SL_STORM_CM1 : SL_STORM_CF;
-  snprintf(info->scheme, sizeof info->scheme, "%s",
-           L.cm1 ? "CM1 (mixing ratios qc qr qi qs qg by name)" : "CF (hydrometeors by standard_name or ECMWF short name)");
+  if (L.cm1)
+    sl_species_cm1_scheme(f, info);
+  else
+    snprintf(info->scheme, sizeof info->scheme, "CF (hydrometeors by standard_name or ECMWF short name)");
   info->nx = (int)L.len[3], info->ny = (int)L.len[2], info->nz = (int)L.len[1];
   info->ntimes = (int)L.len[0];
   if (info->ntimes > SL_MAX_TIMES)
@@ -539,6 +559,8 @@ typedef struct cf_levels {
   int raw;              /* cf_block leaves missing values NaN */
   sl_nc_var rho, p, temp, theta, qv;
   int have_rho, have_temp, have_theta, have_qv, qv_specific;
+  const sl_species *species; /* the load's species: which variables are numbers */
+  int nspecies;
   sl_var_cache cache;
 } cf_levels;
 
@@ -550,7 +572,7 @@ typedef struct cf_levels {
  * hand-made files omit it); units not known here are an error naming the variable. */
 static int cf_apply_units(const sl_nc *f, sl_nc_var *v, cf_quantity q, sl_error *err)
 {
-  static const char *const si[] = {"kg kg-1", "Pa", "K", "kg m-3", "m"};
+  static const char *const si[] = {"kg kg-1", "Pa", "K", "kg m-3", "m", "kg-1 (a number per kg of air)"};
   char units[128] = "";
   double scale, offset;
   if (!sl_nc_attr_text(f, v->varid, "units", units, sizeof units)) return SL_OK;
@@ -685,7 +707,10 @@ static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
   int rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &cached, err);
   if (rc) return rc;
   sl_nc_var v = *cached;
-  return (rc = cf_apply_units(c->f, &v, CF_MASS_FRACTION, err)) ? rc : cf_block(c, &v, out, err);
+  cf_quantity q = CF_MASS_FRACTION;
+  for (int i = 0; i < c->nspecies; ++i)
+    if (strcmp(c->species[i].number_variable, name) == 0) q = CF_NUMBER_PER_MASS;
+  return (rc = cf_apply_units(c->f, &v, q, err)) ? rc : cf_block(c, &v, out, err);
 }
 
 /* A variable by CM1 name or by CF standard_name. */
@@ -952,7 +977,8 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   s.nz = opt && opt->level_count > 0 ? opt->level_count : info->nz - s.k0;
   if (s.k0 < 0 || s.nz < 1 || s.k0 + s.nz > info->nz)
     return sl_fail(err, SL_ERR_ARG, "%s: --levels outside the file's %d levels", f->path, info->nz);
-  cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny};
+  cf_levels c = {.f = f, .L = &L, .s = &s, .t = opt ? opt->time_index : 0, .n2 = (size_t)s.nx * s.ny,
+                 .species = species, .nspecies = nspecies};
   double ground = 0.0, top = 0.0;
   if (L.z_to_pa > 0.0 || L.hybrid_height || L.altitude_3d) {
     if ((rc = cf_column_levels(&c, &ground, &top, err))) goto done;
@@ -1004,6 +1030,10 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if (L.x_to_m != 0.0 && !L.cm1) cf_projected_centre(f, &L, info, &s, frame);
   double x, y;
   if (L.x_to_m == 0.0 && cf_centre_coords(f, &L, &s, &x, &y)) frame->center_lat = y, frame->center_lon = x;
+  /* --origin says where a grid with no place (CM1's flat plane) stands: its centre, for the sun of
+   * a date, as for WRF's idealized runs. */
+  if (!isfinite(frame->center_lat) && opt && opt->has_origin)
+    frame->center_lat = opt->origin_lat, frame->center_lon = opt->origin_lon;
   frame->terrain_min = frame->terrain_max = ground;
   frame->model_top = top;
   frame->time_index = c.t;

@@ -80,10 +80,16 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     if ((rc = r->field(r->ctx, sp->variable, q, err))) goto done;
     if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, qn, err))) goto done;
     const float *rho_air = sp->per_moist_air ? rho_moist : rho_dry;
+    st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
     for (size_t i3 = 0; i3 < n3; ++i3) {
       double v = q[i3];
       if (v < st->q_min) st->q_min = v;
       if (v > st->q_max) st->q_max = v;
+      if (!isfinite(v)) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
+                     "declare as _FillValue or missing_value)", path, sp->variable, s->k0 + (int)(i3 / n2));
+        goto done;
+      }
       if (v < 0.0) {
         st->negative_count++;
         v = 0.0;
@@ -93,22 +99,53 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
                      sp->variable, v, s->k0 + (int)(i3 / n2));
         goto done;
       }
+      double number = -1.0; /* none */
+      if (sp->number_variable[0]) {
+        number = qn[i3];
+        if (!isfinite(number)) {
+          rc = sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable,
+                       s->k0 + (int)(i3 / n2));
+          goto done;
+        }
+        if (number < 0.0) st->number_negative++, number = 0.0;
+        if (number == 0.0 && v > 0.0) st->number_missing++;
+      }
       sums[i] += v;
       if (v == 0.0) continue;
       const size_t c = i3 % n2;
       const int target = frozen[i3] ? sp->cold : sp->warm;
-      const double eta =
-          sl_species_eta(sp, target, rho_air[i3], v, rho_dry[i3], sp->number_variable[0] ? qn[i3] : -1.0);
+      double r_eff;
+      const double eta = sl_species_eta(sp, target, rho_air[i3], v, rho_dry[i3], number, &r_eff);
+      if (r_eff > 0.0 && v > 1e-6) {
+        if (r_eff < st->r_eff_min) st->r_eff_min = r_eff;
+        if (r_eff > st->r_eff_max) st->r_eff_max = r_eff;
+      }
       /* A column that sinks by the earth's curvature deposits lower in the grid. */
       const double sink = drop ? drop[c] : 0.0;
       deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
     }
+    if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
     st->q_mean = sums[i] / (double)n3;
     frame->species[i] = *sp;
     const int own = sp->radius_m == sl_particle_properties((sl_particle)sp->warm)->radius_m;
     if (own && !frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
   }
   frame->nspecies = nspecies;
+  /* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
+   * supercell's rain before 20 minutes) gets no field, so no tables and no per-sample work. A
+   * storm with nothing at all keeps its first field, empty, and renders as the sky. */
+  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+    const float *eta = frame->volume.eta[p];
+    if (!eta) continue;
+    if (first < 0) first = p;
+    size_t i = 0, n = sl_volume_count(&frame->volume);
+    while (i < n && eta[i] == 0.0f) ++i;
+    empty[p] = i == n;
+    held += !empty[p];
+  }
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    if (empty[p] && (held > 0 || p != first)) sl_volume_drop_field(&frame->volume, (sl_particle)p);
 done:
   free(z);
   free(rho_dry);

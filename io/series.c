@@ -29,6 +29,12 @@ static int by_time(const void *a, const void *b)
   return c ? c : (x->path != y->path ? (x->path < y->path ? -1 : 1) : x->time_index - y->time_index);
 }
 
+static int by_elapsed(const void *a, const void *b)
+{
+  const sl_series_frame *x = a, *y = b;
+  return x->elapsed_s < y->elapsed_s ? -1 : x->elapsed_s > y->elapsed_s ? 1 : 0;
+}
+
 int sl_series_open(const char *const *paths, int npaths, sl_series *s, sl_error *err)
 {
   memset(s, 0, sizeof *s);
@@ -52,6 +58,7 @@ int sl_series_open(const char *const *paths, int npaths, sl_series *s, sl_error 
   if (!rc && !info) rc = sl_fail(err, SL_ERR_NOMEM, "series: out of memory");
   int fcap = 0;
   s->has_times = 1;
+  s->has_elapsed = 1;
   for (int i = 0; i < s->npaths && !rc; ++i) {
     if ((rc = sl_storm_read_info(s->paths[i], info, err))) break;
     if (s->count + info->ntimes > fcap) {
@@ -68,8 +75,10 @@ int sl_series_open(const char *const *paths, int npaths, sl_series *s, sl_error 
       f->path = s->paths[i];
       f->time_index = t;
       snprintf(f->time, sizeof f->time, "%s", info->has_times ? info->times[t] : "");
+      f->elapsed_s = info->has_elapsed ? info->elapsed_s[t] : 0.0;
     }
     if (!info->has_times) s->has_times = 0;
+    if (!info->has_elapsed) s->has_elapsed = 0;
   }
   free(info);
   if (!rc && s->has_times) {
@@ -78,6 +87,15 @@ int sl_series_open(const char *const *paths, int npaths, sl_series *s, sl_error 
       if (strcmp(s->frames[i].time, s->frames[i - 1].time) == 0)
         rc = sl_fail(err, SL_ERR_DATA, "%s: time %s appears twice (also in %s)", s->frames[i].path,
                      s->frames[i].time, s->frames[i - 1].path);
+  }
+  if (s->has_times) s->has_elapsed = 0;
+  if (!rc && s->has_elapsed) {
+    /* qsort is not stable: equal seconds keep no order, so they are refused like equal dates. */
+    qsort(s->frames, (size_t)s->count, sizeof *s->frames, by_elapsed);
+    for (int i = 1; i < s->count && !rc; ++i)
+      if (s->frames[i].elapsed_s == s->frames[i - 1].elapsed_s)
+        rc = sl_fail(err, SL_ERR_DATA, "%s: time %g s appears twice (also in %s)", s->frames[i].path,
+                     s->frames[i].elapsed_s, s->frames[i - 1].path);
   }
   if (rc) sl_series_free(s);
   return rc;

@@ -6,6 +6,7 @@
 
 #include "sl_georef.h"
 #include "sl_particles.h"
+#include "sl_size_distribution.h"
 #include "sl_status.h"
 #include "sl_volume.h"
 
@@ -20,9 +21,8 @@ extern "C" {
 typedef enum sl_storm_format { SL_STORM_WRF = 0, SL_STORM_CM1 = 1, SL_STORM_CF = 2 } sl_storm_format;
 
 /* One hydrometeor variable of the file and the particle type(s) it feeds. A species whose warm
- * and cold types differ is split per cell at 0 C (simple-ice and warm-rain schemes). Particles of
- * a species without a type of its own (graupel, hail) are drawn with the target type's optics at
- * the species' own extinction per unit mass (docs/DATA.md). */
+ * and cold types differ is split per cell at 0 C (simple-ice and warm-rain schemes). A variable
+ * drawn as another type (--field) keeps its own extinction per unit mass (docs/DATA.md). */
 typedef struct sl_species {
   char variable[64];          /* mixing ratio or mass fraction, kg/kg */
   char number_variable[64];   /* number per kg of dry air (double-moment schemes), "" when none */
@@ -30,6 +30,10 @@ typedef struct sl_species {
   const char *kind;           /* "cloud water", "graupel", ... (static) */
   double radius_m, density_kg_m3; /* representative particle of the species (single-moment mass) */
   int per_moist_air;          /* CF mass fraction: per kg of moist air, not dry air */
+  /* The scheme's size distribution (docs/DATA.md, "Sizes"): with the number variable, or with the
+   * scheme's fixed number, each cell's effective radius scales the extinction of the warm type's
+   * tables. density 0: the representative particle (Riley's, --particles representative). */
+  sl_gamma_distribution sizes;
 } sl_species;
 
 typedef struct sl_field_stats {
@@ -37,6 +41,11 @@ typedef struct sl_field_stats {
   double q_min, q_max;   /* kg/kg, before clamping */
   double q_mean;         /* kg/kg, after clamping negatives to zero */
   long negative_count;   /* values below zero, clamped to zero (advection error, normal in WRF) */
+  /* Sizes (species with a distribution): the effective radius over cells with q above 1e-6 kg/kg
+   * (0 when none), and the cells whose number variable was negative (clamped to 0) or zero where
+   * q > 0 (the scheme's single-moment assumption, or the representative particle, there). */
+  double r_eff_min, r_eff_max;
+  long number_negative, number_missing;
 } sl_field_stats;
 
 typedef struct sl_storm_info {
@@ -50,6 +59,7 @@ typedef struct sl_storm_info {
   double truelat1, truelat2, stand_lon; /* degrees, NAN when absent */
   double pole_lat, pole_lon;  /* degrees, WRF's rotated-pole attributes (MAP_PROJ 6); 90, 0 when absent */
   int mp_physics;             /* WRF MP_PHYSICS, -1 when absent */
+  int cm1_ptype;              /* CM1's microphysics option (global attribute ptype), -1 when absent */
   char scheme[96];            /* microphysics scheme in words */
   char vertical[256];         /* the vertical coordinate and where heights come from, in words */
   int nspecies;               /* hydrometeor variables found and how they map (before --field) */
@@ -61,6 +71,10 @@ typedef struct sl_storm_info {
    * takes these): equal to times in the standard and proleptic Gregorian calendars, the same day
    * in the Julian one, the same fraction of the year in noleap, all_leap and 360_day. */
   char sun_times[SL_MAX_TIMES][24];
+  /* A time coordinate that counts from the run's start with no date (CM1's "seconds"): each time
+   * as seconds since the start. The run is placed in time by --date, its start. */
+  int has_elapsed;
+  double elapsed_s[SL_MAX_TIMES];
 } sl_storm_info;
 
 /* One time of a storm file resampled to a uniform grid. */
@@ -97,6 +111,12 @@ typedef struct sl_load_options {
   /* Per particle type: the variable that feeds it instead of the default mapping ("none": no
    * variable); NULL keeps the default. */
   const char *field_variable[SL_PARTICLE_COUNT];
+  /* 1: every species as its type's representative particle (Riley et al. 2004), ignoring number
+   * concentrations and the schemes' size distributions (--particles representative). */
+  int representative_particles;
+  /* > 0: cloud droplets per m^3 where the file writes no droplet number, instead of the scheme's
+   * fixed number (CM1's namelist ndcnst, which its output does not record) (--droplet-number). */
+  double droplet_number_m3;
   /* Placement (docs/GEOREFERENCING.md). The world frame is the local east-north-up frame of
    * (origin_lat, origin_lon) when has_origin is set, else of this time's grid centre; a series
    * keeps one origin so a moving nest moves across the frame. */

@@ -28,37 +28,91 @@ static const struct {
     {52, "P3 2-ice", 0},             {53, "P3 1-ice 3-moment", 0},
 };
 
-/* The species every scheme's variables belong to. Representative particles of cloud, rain, ice
- * and snow are render/core's (Riley et al. 2004, Table 2); graupel and hail have no type of their
- * own and are drawn with snow's optics (large irregular ice in the geometric-optics limit: no
- * rainbow, no halo, Q_ext = 2) at their own extinction per unit mass: graupel 2 mm across at
- * 400 kg/m3, hail 1 cm at 900 kg/m3 (Pruppacher & Klett 2000, ch. 2; WSM6's graupel density is
- * 500, Thompson's 400, Milbrandt-Yau's hail 900). */
+/* The species every scheme's variables belong to, each with its own particle type (render/core,
+ * render/optics). Variables by WRF name (with the number variable of double-moment schemes), by
+ * CM1 name (Morrison's nci/ncs/ncr/ncg; CM1's qg is graupel or, with ihail = 1, hail, which CM1
+ * does not record in the file: --field hail=qg), by CF standard name or by ECMWF short name. */
 typedef struct species_def {
-  const char *wrf, *wrf_number, *cm1, *standard_name, *ecmwf, *kind;
+  const char *wrf, *wrf_number, *cm1, *cm1_number, *standard_name, *ecmwf, *kind;
   int type;
-  double radius_m, density_kg_m3; /* 0: the target type's own particle */
 } species_def;
 
 static const species_def SPECIES[] = {
-    {"QCLOUD", "QNCLOUD", "qc", "mass_fraction_of_cloud_liquid_water_in_air", "clwc", "cloud water", SL_CLOUD, 0, 0},
-    {"QRAIN", "QNRAIN", "qr", "mass_fraction_of_rain_in_air", "crwc", "rain", SL_RAIN, 0, 0},
-    {"QICE", "QNICE", "qi", "mass_fraction_of_cloud_ice_in_air", "ciwc", "cloud ice", SL_ICE, 0, 0},
-    {"QSNOW", "QNSNOW", "qs", "mass_fraction_of_snow_in_air", "cswc", "snow", SL_SNOW, 0, 0},
-    {"QGRAUP", "QNGRAUPEL", "qg", "mass_fraction_of_graupel_in_air", NULL, "graupel", SL_SNOW, 1.0e-3, 400.0},
-    {"QHAIL", "QNHAIL", "qhl", "mass_fraction_of_hail_in_air", NULL, "hail", SL_SNOW, 5.0e-3, 900.0},
+    {"QCLOUD", "QNCLOUD", "qc", "ncc", "mass_fraction_of_cloud_liquid_water_in_air", "clwc", "cloud water", SL_CLOUD},
+    {"QRAIN", "QNRAIN", "qr", "ncr", "mass_fraction_of_rain_in_air", "crwc", "rain", SL_RAIN},
+    {"QICE", "QNICE", "qi", "nci", "mass_fraction_of_cloud_ice_in_air", "ciwc", "cloud ice", SL_ICE},
+    {"QSNOW", "QNSNOW", "qs", "ncs", "mass_fraction_of_snow_in_air", "cswc", "snow", SL_SNOW},
+    {"QGRAUP", "QNGRAUPEL", "qg", "ncg", "mass_fraction_of_graupel_in_air", NULL, "graupel", SL_GRAUPEL},
+    {"QHAIL", "QNHAIL", "qhl", "nchl", "mass_fraction_of_hail_in_air", NULL, "hail", SL_HAIL},
 };
 #define NDEF (int)(sizeof SPECIES / sizeof SPECIES[0])
 
-static void species_from_def(const species_def *d, const char *variable, sl_species *sp)
+/* Size distributions per scheme (docs/DATA.md, "Sizes"): gamma in diameter for spheres of the
+ * scheme's density. A density of 0 leaves the species to the representative particle of its
+ * type unless the file gives a number concentration, in which case DEFAULT_SIZES apply. */
+typedef struct scheme_sizes {
+  sl_gamma_distribution psd[SL_PARTICLE_COUNT];
+} scheme_sizes;
+
+/* Morrison, Curry & Khvorostyanov 2005 and Morrison, Thompson & Tatarskii 2009 (WRF MP_PHYSICS 10,
+ * CM1 ptype 5): every species exponential (mu 0) but cloud droplets (Martin et al. 1994's mu); cloud
+ * droplets' number fixed at NDCNST = 250 cm^-3 (the scheme predicts none); densities rain 997,
+ * cloud ice 500, snow 100, graupel 400, hail 900 kg/m3. */
+static const scheme_sizes MORRISON = {{
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 997.0, 250e6, "Morrison et al. 2005: gamma, Martin et al. 1994's mu, N 250 cm^-3"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 997.0, 0.0, "Morrison et al. 2005: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 500.0, 0.0, "Morrison et al. 2005: exponential, 500 kg/m3 spheres"},
+    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, "Morrison et al. 2005: exponential, 100 kg/m3 spheres"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, "Morrison et al. 2009: exponential, 400 kg/m3"},
+    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, "Morrison et al. 2009: exponential, 900 kg/m3"},
+}};
+
+/* Thompson et al. 2008 (WRF 8) and Thompson & Eidhammer 2014 (WRF 28, which predicts QNCLOUD): cloud
+ * droplets gamma with mu = min(15, NINT(1000 / N) + 2), N fixed at 100 cm^-3 where not predicted;
+ * rain exponential (1000 kg/m3); cloud ice exponential spheres of 890 kg/m3. Snow (m = 0.069 D^2,
+ * Field et al. 2005's two-mode spectrum) and graupel (intercept diagnosed from the mixing ratio) are
+ * not spheres of one density: they keep the representative particle. */
+static const scheme_sizes THOMPSON = {{
+    [SL_CLOUD] = {SL_SHAPE_THOMPSON2008, 0.0, 1000.0, 100e6, "Thompson et al. 2008: gamma, mu = min(15, 1000/N + 2), N 100 cm^-3"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, "Thompson et al. 2008: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 890.0, 0.0, "Thompson et al. 2008: exponential, 890 kg/m3 spheres"},
+}};
+
+/* A double-moment variable of a scheme without a row above: exponential spheres of the type's
+ * representative density; cloud droplets with Martin et al. 1994's shape. */
+static const scheme_sizes DEFAULT_SIZES = {{
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 1000.0, 0.0, "Stormlight default: gamma, Martin et al. 1994's mu"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, "Stormlight default: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 917.0, 0.0, "Stormlight default: exponential, solid ice"},
+    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, "Stormlight default: exponential, 100 kg/m3"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, "Stormlight default: exponential, 400 kg/m3"},
+    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, "Stormlight default: exponential, 900 kg/m3"},
+}};
+
+static const scheme_sizes *scheme_sizes_of(int wrf_mp_physics, int cm1_ptype)
+{
+  if (wrf_mp_physics == 10 || cm1_ptype == 5) return &MORRISON;
+  if (wrf_mp_physics == 8 || wrf_mp_physics == 28 || cm1_ptype == 3) return &THOMPSON;
+  return NULL;
+}
+
+static void species_from_def(const species_def *d, const char *variable, const scheme_sizes *sizes, sl_species *sp)
 {
   memset(sp, 0, sizeof *sp);
   snprintf(sp->variable, sizeof sp->variable, "%s", variable);
   sp->warm = sp->cold = d->type;
   sp->kind = d->kind;
   const sl_particle_props *pp = sl_particle_properties((sl_particle)d->type);
-  sp->radius_m = d->radius_m > 0 ? d->radius_m : pp->radius_m;
-  sp->density_kg_m3 = d->density_kg_m3 > 0 ? d->density_kg_m3 : pp->density_kg_m3;
+  sp->radius_m = pp->radius_m;
+  sp->density_kg_m3 = pp->density_kg_m3;
+  if (sizes && sizes->psd[d->type].density_kg_m3 > 0.0) sp->sizes = sizes->psd[d->type];
+}
+
+/* A number variable needs a distribution to turn (q, N) into sizes: the scheme's, else the default. */
+static void species_number(sl_species *sp, const char *number_variable)
+{
+  snprintf(sp->number_variable, sizeof sp->number_variable, "%s", number_variable);
+  if (!(sp->sizes.density_kg_m3 > 0.0)) sp->sizes = DEFAULT_SIZES.psd[sp->warm];
 }
 
 static int scheme_splits(int mp_physics)
@@ -76,15 +130,50 @@ void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info)
   snprintf(info->scheme, sizeof info->scheme, "%s", name);
   const int split = scheme_splits(mp_physics);
   info->nspecies = 0;
+  const scheme_sizes *sizes = scheme_sizes_of(mp_physics, -1);
   for (int d = 0; d < NDEF; ++d) {
     if (!sl_nc_has_var(f, SPECIES[d].wrf)) continue;
     sl_species *sp = &info->species[info->nspecies++];
-    species_from_def(&SPECIES[d], SPECIES[d].wrf, sp);
-    if (sl_nc_has_var(f, SPECIES[d].wrf_number))
-      snprintf(sp->number_variable, sizeof sp->number_variable, "%s", SPECIES[d].wrf_number);
+    species_from_def(&SPECIES[d], SPECIES[d].wrf, sizes, sp);
+    if (sl_nc_has_var(f, SPECIES[d].wrf_number)) species_number(sp, SPECIES[d].wrf_number);
     /* Simple ice (WSM3) and warm rain (Kessler): cloud below 0 C is cloud ice, rain is snow. */
     if (split && SPECIES[d].type == SL_CLOUD) sp->cold = SL_ICE;
     if (split && SPECIES[d].type == SL_RAIN) sp->cold = SL_SNOW;
+  }
+}
+
+/* CM1's ptype (its microphysics option, a global attribute of its netCDF output). */
+static const struct {
+  int ptype;
+  const char *name;
+} CM1_SCHEMES[] = {
+    {1, "Kessler (warm rain)"}, {2, "Goddard-LFO"}, {3, "Thompson"},           {4, "Gilmore-Straka-Rasmussen LFO"},
+    {5, "Morrison 2-moment"},   {6, "Rotunno-Emanuel"}, {26, "NSSL 2-moment"}, {27, "NSSL 3-moment"},
+    {28, "NSSL 1-moment"},      {50, "P3 1-ice"},   {51, "P3 1-ice, 2-moment cloud"}, {52, "P3 2-ice"},
+    {53, "P3 1-ice 3-moment"},
+};
+
+void sl_species_cm1_scheme(const sl_nc *f, sl_storm_info *info)
+{
+  const int ptype = (int)sl_nc_attr_double(f, NC_GLOBAL, "ptype", -1.0);
+  info->cm1_ptype = ptype;
+  const char *name = NULL;
+  for (size_t i = 0; i < sizeof CM1_SCHEMES / sizeof CM1_SCHEMES[0]; ++i)
+    if (CM1_SCHEMES[i].ptype == ptype) name = CM1_SCHEMES[i].name;
+  if (name)
+    snprintf(info->scheme, sizeof info->scheme, "%s (CM1 ptype %d)", name, ptype);
+  else if (ptype >= 0)
+    snprintf(info->scheme, sizeof info->scheme, "CM1 ptype %d (unknown to Stormlight; mapped by variable name)", ptype);
+  else
+    snprintf(info->scheme, sizeof info->scheme, "CM1, no ptype attribute (mapped by variable name)");
+  const scheme_sizes *sizes = scheme_sizes_of(-1, ptype);
+  for (int s = 0; s < info->nspecies; ++s) {
+    sl_species *sp = &info->species[s];
+    for (int d = 0; d < NDEF; ++d) {
+      if (strcmp(sp->variable, SPECIES[d].cm1) != 0) continue;
+      if (sizes && sizes->psd[SPECIES[d].type].density_kg_m3 > 0.0) sp->sizes = sizes->psd[SPECIES[d].type];
+      if (sl_nc_has_var(f, SPECIES[d].cm1_number)) species_number(sp, SPECIES[d].cm1_number);
+    }
   }
 }
 
@@ -99,7 +188,7 @@ int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1
                         : (standard_name && strcmp(standard_name, SPECIES[d].standard_name) == 0) ||
                               (unnamed && SPECIES[d].ecmwf && strcmp(var_name, SPECIES[d].ecmwf) == 0);
     if (!hit) continue;
-    species_from_def(&SPECIES[d], var_name, sp);
+    species_from_def(&SPECIES[d], var_name, NULL, sp);
     sp->per_moist_air = !cm1; /* CF mass fractions are per kg of (moist) air; CM1 writes mixing ratios */
     return 1;
   }
@@ -149,7 +238,27 @@ int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_o
     sp->radius_m = sl_particle_properties((sl_particle)p)->radius_m;
     sp->density_kg_m3 = sl_particle_properties((sl_particle)p)->density_kg_m3;
     sp->per_moist_air = info->kind == SL_STORM_CF;
+    /* A variable the file's scheme sizes (CM1's qg as hail) keeps its number variable, with the
+     * scheme's distribution of the type it is now drawn as. */
+    const scheme_sizes *sizes = scheme_sizes_of(info->mp_physics, info->cm1_ptype);
+    if (sizes && sizes->psd[p].density_kg_m3 > 0.0) sp->sizes = sizes->psd[p];
+    for (int s = 0; s < info->nspecies; ++s) {
+      if (strcmp(info->species[s].variable, var) != 0) continue;
+      sp->kind = info->species[s].kind;
+      if (info->species[s].number_variable[0]) species_number(sp, info->species[s].number_variable);
+    }
   }
+  if (opt && opt->droplet_number_m3 > 0.0)
+    for (int i = 0; i < n; ++i) {
+      if (out[i].warm != SL_CLOUD || out[i].number_variable[0]) continue;
+      if (!(out[i].sizes.density_kg_m3 > 0.0)) out[i].sizes = DEFAULT_SIZES.psd[SL_CLOUD];
+      out[i].sizes.fixed_number_m3 = opt->droplet_number_m3;
+    }
+  if (opt && opt->representative_particles)
+    for (int i = 0; i < n; ++i) {
+      out[i].number_variable[0] = '\0';
+      memset(&out[i].sizes, 0, sizeof out[i].sizes);
+    }
   *count = n;
   return SL_OK;
 }
@@ -168,22 +277,33 @@ int sl_storm_map_species(const sl_storm_info *info, const sl_load_options *opt, 
  * limit: 2 pi r^2 / (4/3 pi r^3 rho) = 3 / (2 rho r) (Riley et al. 2004, Table 2's sigma = 2 pi r^2). */
 static double extinction_per_mass(double radius, double density) { return 3.0 / (2.0 * density * radius); }
 
-double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn)
+/* Effective radii outside [0.5 um, 5 cm] are no hydrometeor (a number of 1e-3 per kg beside a
+ * trace of mass, quantisation's relics): clamped there, as the schemes bound their slopes. */
+#define REFF_MIN 0.5e-6
+#define REFF_MAX 0.05
+
+double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn,
+                      double *r_eff)
 {
   const sl_particle_props *tp = sl_particle_properties((sl_particle)target);
+  *r_eff = 0.0;
   if (q <= 0.0) return 0.0;
   const double mass_conc = rho_air * q; /* kg/m3 */
-  if (qn > 0.0 && target == sp->warm) {
-    /* Double moment: number concentration rho_d * QN, each particle of the mean mass q / QN (a
-     * monodisperse population); as extinction-equivalent target particles: N (r / r_target)^2. */
-    const double number = rho_dry * qn;
-    const double mean_mass = mass_conc / number;
-    const double r = cbrt(3.0 * mean_mass / (4.0 * M_PI * sp->density_kg_m3));
-    return number * (r * r) / (tp->radius_m * tp->radius_m);
+  const sl_gamma_distribution *psd = &sp->sizes;
+  const double number = qn > 0.0 ? rho_dry * qn : psd->fixed_number_m3;
+  if (target == sp->warm && psd->density_kg_m3 > 0.0 && number > 0.0) {
+    /* Sizes from the microphysics: the gamma distribution that holds this mass in this number has
+     * the effective radius r; its extinction per unit mass, 3 Q / (4 rho r), against the target
+     * type's tables' (which average over a distribution of effective radius r_t and density rho_t),
+     * as a number of the tables' representative particles. Q = 2 for both (large particles). */
+    double r = sl_gamma_effective_radius(psd, mass_conc, number);
+    r = r < REFF_MIN ? REFF_MIN : (r > REFF_MAX ? REFF_MAX : r);
+    *r_eff = r;
+    return mass_conc / sl_particle_mass((sl_particle)target) * (tp->density_kg_m3 * tp->effective_radius_m) /
+           (psd->density_kg_m3 * r);
   }
-  /* Single moment: the species' representative particle's extinction per unit mass. The target
-   * type's own species reduces to eta = rho q / m_target exactly, and so does the cold branch of
-   * a split species (WSM3's QCLOUD below 0 C is cloud ice: ice's own particle). */
+  /* Single moment: the target type's representative particle, eta = rho q / m_target; a species
+   * drawn with another type's optics (an override) keeps its own extinction per unit mass. */
   if (target != sp->warm || (sp->radius_m == tp->radius_m && sp->density_kg_m3 == tp->density_kg_m3))
     return sl_number_concentration(rho_air, q, sl_particle_mass((sl_particle)target));
   return mass_conc * extinction_per_mass(sp->radius_m, sp->density_kg_m3) / tp->sigma_ext_m2;

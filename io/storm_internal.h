@@ -120,11 +120,15 @@ void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info);
 int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt,
                       sl_species out[SL_MAX_SPECIES], int *count, sl_error *err);
 /* A CM1 name (cm1 != 0) or CF standard_name of a hydrometeor: fills *sp and returns 1. */
+/* CM1's scheme from its ptype attribute: info->scheme in words, sizes and number variables of the
+ * species sl_species_cf_match found. */
+void sl_species_cm1_scheme(const sl_nc *f, sl_storm_info *info);
 int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1, sl_species *sp);
 /* Extinction-equivalent number concentration (m^-3) of `target` particles for one cell: the
  * species' mass concentration rho_air * q and, for double-moment schemes, its number
  * concentration rho_dry * qn (qn < 0: none). */
-double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn);
+double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn,
+                      double *r_eff);
 /* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
 double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
 

@@ -174,6 +174,7 @@ static int read_info_nc(const sl_nc *f, sl_storm_info *info, sl_error *err)
   snprintf(info->path, sizeof info->path, "%s", f->path);
   nc_inq_format(f->id, &info->format);
   info->mp_physics = -1;
+  info->cm1_ptype = -1;
   int dimid, rc;
   if (nc_inq_dimid(f->id, "west_east", &dimid) == NC_NOERR || nc_inq_dimid(f->id, "bottom_top", &dimid) == NC_NOERR)
     rc = wrf_read_info(f, info, err);

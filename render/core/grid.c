@@ -34,6 +34,13 @@ int sl_volume_add_field(sl_volume *v, sl_particle p, sl_error *err)
   return SL_OK;
 }
 
+void sl_volume_drop_field(sl_volume *v, sl_particle p)
+{
+  if ((int)p < 0 || p >= SL_PARTICLE_COUNT) return;
+  free(v->eta[p]);
+  v->eta[p] = NULL;
+}
+
 void sl_volume_free(sl_volume *v)
 {
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(v->eta[p]);

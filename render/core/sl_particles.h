@@ -13,7 +13,9 @@ typedef enum sl_particle {
   SL_RAIN = 1,  /* raindrops */
   SL_ICE = 2,   /* pristine ice crystals (hexagonal) */
   SL_SNOW = 3,  /* snow aggregates */
-  SL_PARTICLE_COUNT = 4
+  SL_GRAUPEL = 4, /* rimed ice, about 400 kg/m3, millimetres */
+  SL_HAIL = 5,  /* dense ice, about 900 kg/m3, millimetres to centimetres */
+  SL_PARTICLE_COUNT = 6
 } sl_particle;
 
 typedef struct sl_particle_props {
@@ -22,6 +24,10 @@ typedef struct sl_particle_props {
   double radius_m;           /* radius of the representative particle */
   double density_kg_m3;      /* bulk density of the representative particle */
   const char *mass_source;   /* how the mass was chosen, for reports */
+  /* Effective radius of the size distribution the optics tables average over (render/optics):
+   * the tables' extinction per unit mass is 3 Q / (4 density r_eff) with Q near 2, so a voxel
+   * whose particles have another effective radius scales it by r_eff / its own (io/species.c). */
+  double effective_radius_m;
 } sl_particle_props;
 
 const sl_particle_props *sl_particle_properties(sl_particle p);

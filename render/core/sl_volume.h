@@ -25,6 +25,8 @@ int sl_volume_init(sl_volume *v, int nx, int ny, int nz, const double origin[3],
                    sl_error *err);
 /* Allocates one field filled with zeros. */
 int sl_volume_add_field(sl_volume *v, sl_particle p, sl_error *err);
+/* Frees one field (NULL again: the type is absent). */
+void sl_volume_drop_field(sl_volume *v, sl_particle p);
 void sl_volume_free(sl_volume *v);
 size_t sl_volume_count(const sl_volume *v);
 static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)

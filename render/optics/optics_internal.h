@@ -35,6 +35,8 @@ int optics_mie_distribution(sl_particle p, double wavelength_nm, const optics_gr
 int optics_ice_crystals(double wavelength_nm, const optics_grid *g, long rays, unsigned long long seed,
                         optics_raw_phase *out, sl_error *err);
 int optics_snow(double wavelength_nm, const optics_grid *g, optics_raw_phase *out, sl_error *err);
+int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, int radius_samples,
+                     optics_raw_phase *out, sl_error *err);
 
 /* Lognormal size distribution of one particle type (mie_distribution.c). */
 typedef struct optics_lognormal {
@@ -42,6 +44,15 @@ typedef struct optics_lognormal {
   const char *source;
 } optics_lognormal;
 const optics_lognormal *optics_size_distribution(sl_particle p);
+
+/* Exponential size distribution n(D) = N0 exp(-slope D) of graupel and hail (rimed_ice.c): spheres
+ * of the bulk density, Mie up to size parameter SL_RIMED_X_MIE_MAX, a large-particle limit beyond. */
+typedef struct optics_exponential {
+  double slope_per_m, density_kg_m3;
+  const char *source;
+} optics_exponential;
+const optics_exponential *optics_rimed_distribution(sl_particle p);
+#define SL_RIMED_X_MIE_MAX 2.0e4
 
 /* Turns a raw phase function into a finished table (phase_table.c). The table owns one
  * allocation, released with optics_table_release. */

@@ -1,5 +1,6 @@
 #include "sl_refractive.h"
 
+#include <complex.h>
 #include <math.h>
 
 
@@ -74,4 +75,32 @@ void sl_ice_index(double wavelength_nm, double *re, double *im)
   const double w = u - i;
   *re = (1.0 - w) * m_re[i] + w * m_re[i + 1];
   *im = exp((1.0 - w) * log(m_im[i]) + w * log(m_im[i + 1]));
+}
+
+void sl_bruggeman_index(double f1, double re1, double im1, double re2, double im2, double *re, double *im)
+{
+  /* Multiplying out the two fractions gives a quadratic, -2 eps^2 + b eps + eps1 eps2 = 0 with
+   * b = (3 f1 - 1) eps1 + (3 f2 - 1) eps2 and f2 = 1 - f1. Its two roots have a product
+   * -eps1 eps2 / 2, so for non-absorbing components one is negative (unphysical); the other,
+   * (b + sqrt(b^2 + 8 eps1 eps2)) / 4 with the square root in the right half-plane, is the
+   * medium, and it tends to eps1 or eps2 as f1 goes to 1 or 0. */
+  const double complex m1 = re1 + im1 * I, m2 = re2 + im2 * I;
+  const double complex e1 = m1 * m1, e2 = m2 * m2;
+  const double f2 = 1.0 - f1;
+  const double complex b = (3.0 * f1 - 1.0) * e1 + (3.0 * f2 - 1.0) * e2;
+  double complex root = csqrt(b * b + 8.0 * e1 * e2);
+  if (creal(root) < 0.0) root = -root;
+  const double complex eps = (b + root) / 4.0;
+  double complex m = csqrt(eps);
+  if (creal(m) < 0.0) m = -m;
+  *re = creal(m);
+  *im = fabs(cimag(m));
+}
+
+void sl_rimed_ice_index(double wavelength_nm, double density_kg_m3, double *re, double *im)
+{
+  double ice_re, ice_im;
+  sl_ice_index(wavelength_nm, &ice_re, &ice_im);
+  const double f = density_kg_m3 >= SL_SOLID_ICE_DENSITY ? 1.0 : density_kg_m3 / SL_SOLID_ICE_DENSITY;
+  sl_bruggeman_index(f, ice_re, ice_im, 1.0, 0.0, re, im);
 }

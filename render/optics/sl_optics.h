@@ -63,7 +63,7 @@ typedef struct sl_optics_request {
   void *progress_user;
 } sl_optics_request;
 
-/* Defaults: all four particle types, the paper's three wavelengths, 0.1 degree. */
+/* Defaults: all particle types, the paper's three wavelengths, 0.1 degree. */
 void sl_optics_request_defaults(sl_optics_request *req);
 /* Wavelength sets by name: "rgb" or "spectral16". Returns SL_ERR_ARG for other names. */
 int sl_optics_request_wavelengths(sl_optics_request *req, const char *set_name, sl_error *err);

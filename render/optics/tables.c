@@ -92,6 +92,10 @@ static void cache_key(const sl_optics_request *r, sl_particle p, int n_moments, 
   if (d)
     len += snprintf(key + len, size - (size_t)len, " lognormal=%.9g,%.9g radii=%d", d->median_radius_m, d->sigma_ln,
                     r->radius_samples);
+  const optics_exponential *e = optics_rimed_distribution(p);
+  if (e)
+    len += snprintf(key + len, size - (size_t)len, " exponential=%.9g,%.9g xmie=%.9g radii=%d", e->slope_per_m,
+                    e->density_kg_m3, SL_RIMED_X_MIE_MAX, r->radius_samples);
   if (p == SL_ICE) len += snprintf(key + len, size - (size_t)len, " rays=%ld seed=%llu", r->ice_rays, r->seed);
   const sl_particle_props *props = sl_particle_properties(p);
   len += snprintf(key + len, size - (size_t)len, " sigma=%.9g r=%.9g wl=", props->sigma_ext_m2, props->radius_m);
@@ -121,6 +125,8 @@ static int build_particle(const sl_optics_request *r, sl_particle p, const optic
     case SL_RAIN: status = optics_mie_distribution(p, nm, g, r->radius_samples, &raw, err); break;
     case SL_ICE: status = optics_ice_crystals(nm, g, r->ice_rays, r->seed, &raw, err); break;
     case SL_SNOW: status = optics_snow(nm, g, &raw, err); break;
+    case SL_GRAUPEL:
+    case SL_HAIL: status = optics_rimed_ice(p, nm, g, r->radius_samples, &raw, err); break;
     default: status = sl_fail(err, SL_ERR_ARG, "optics: unknown particle %d", (int)p);
     }
     if (status == SL_OK) status = optics_table_from_raw(g, &raw, params, nm, &tables[w], err);

@@ -410,6 +410,10 @@ sl_ref_medium *sl_ref_medium_from_volume(const sl_volume *v, const sl_optics_tab
   d.n_components = 0;
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
     if (!v->eta[p]) continue;
+    if (d.n_components == SL_REF_MAX_COMPONENTS) {
+      sl_fail(err, SL_ERR_ARG, "reference: more than %d particle fields", SL_REF_MAX_COMPONENTS);
+      return NULL;
+    }
     sl_ref_component *c = &d.component[d.n_components++];
     c->density = v->eta[p];
     for (int w = 0; w < d.n_wavelengths; ++w) {

@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 #define SL_REF_MAX_WAVELENGTHS 16
-#define SL_REF_MAX_COMPONENTS 4
+#define SL_REF_MAX_COMPONENTS 6 /* one per particle type (sl_particles.h) */
 
 /* ---- phase functions ------------------------------------------------------------------------ */
 

@@ -409,7 +409,8 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         if (batch < MARCH_BATCH) batch *= 2;
         int live = 0;
         for (int i = 0; i < cnt; ++i) {
-          const sl__v4f v = sl__field_fetch(r, nf, &b_cell[i]);
+          float v[SL__FIELD_LANES];
+          sl__field_fetch(r, nf, &b_cell[i], v);
           double beta = 0.0;
           for (int j = 0; j < nf; ++j) beta += v[j];
           if (!(beta > 0.0)) continue;

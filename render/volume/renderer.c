@@ -199,7 +199,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
    * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
   const size_t count = sl_volume_count(scene->volume);
   const int nf = r->model.nf;
-  const size_t field_bytes = ((nf > 0 ? nf : 1) * count + 4) * sizeof(float); /* + 4: sl__field_fetch's last load */
+  const size_t field_bytes = ((nf > 0 ? nf : 1) * count + SL__FIELD_LANES) * sizeof(float); /* sl__field_fetch's last load */
   r->fields = sl__huge_alloc(field_bytes);
   if (!r->fields) {
     sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grids");
@@ -1212,7 +1212,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
          * each part's pixel, middle, length, fields and extinction. */
         int live = 0;
         for (; si < cnt && live <= EYE_BATCH - EYE_PARTS_MAX; ++si) {
-        const sl__v4f v = sl__field_fetch(r, nf, &cells[si]);
+        float v[SL__FIELD_LANES];
+        sl__field_fetch(r, nf, &cells[si], v);
         double beta_mid = 0.0;
         for (int j = 0; j < nf; ++j) beta_mid += v[j];
         if (!(beta_mid > 0.0)) continue;
@@ -1407,7 +1408,8 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
         }
         int live = 0;
         for (int i = 0; i < cnt; ++i) {
-          const sl__v4f v = sl__field_fetch(r, nf, &cells[i]);
+          float v[SL__FIELD_LANES];
+          sl__field_fetch(r, nf, &cells[i], v);
           double beta = 0.0;
           for (int f = 0; f < nf; ++f) beta += v[f];
           if (!(beta > 0.0)) continue;

@@ -244,8 +244,8 @@ static inline int sl__wide_isa(const sl_scene *sc)
 }
 #endif
 
-/* Four floats as one value: the fields of a lattice sample (at most four, interleaved) are one
- * 16-byte load, and the seven lerps of a trilinear look-up run on all fields at once. */
+/* Four floats as one value: four fields of a lattice sample (interleaved) are one 16-byte load,
+ * and the seven lerps of a trilinear look-up run on all of them at once. */
 typedef float sl__v4f __attribute__((vector_size(16)));
 
 static inline sl__v4f sl__load_v4f(const float *p)
@@ -322,16 +322,25 @@ static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_rend
   return sl__field_cell_of(r, nf, i0, f, prefetch, cell);
 }
 
-/* The trilinear interpolation of every field in a cell found by sl__field_cell_at. The field
- * array is padded by four floats, so the last sample's 16-byte loads stay inside it when nf < 4. */
-static inline __attribute__((always_inline)) sl__v4f sl__field_fetch(const sl_renderer *r, const int nf,
-                                                                   const sl__field_cell *cell)
+/* Floats sl__field_fetch writes: two four-float lerps cover the six particle types. */
+#define SL__FIELD_LANES 8
+/* The trilinear interpolation of every field in a cell found by sl__field_cell_at, into
+ * out[0..nf-1] (lanes past nf hold junk). Fields 0-3 are one four-float lerp; a volume with more
+ * than four (graupel or hail beside cloud, rain, ice and snow) pays a second one for 4-7. The
+ * field array is padded by SL__FIELD_LANES floats, so the last sample's loads stay inside it. */
+static inline __attribute__((always_inline)) void sl__field_fetch(const sl_renderer *r, const int nf,
+                                                                  const sl__field_cell *cell, float *out)
 {
   const sl_grid_view *g = &r->beta_view;
   const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
   const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
   const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
-  return sl__trilinear_v4f(cell->c, sx, sy, sz, cell->f[0], cell->f[1], cell->f[2]);
+  const sl__v4f lo = sl__trilinear_v4f(cell->c, sx, sy, sz, cell->f[0], cell->f[1], cell->f[2]);
+  memcpy(out, &lo, sizeof lo);
+  if (nf > 4) {
+    const sl__v4f hi = sl__trilinear_v4f(cell->c + 4, sx, sy, sz, cell->f[0], cell->f[1], cell->f[2]);
+    memcpy(out + 4, &hi, sizeof hi);
+  }
 }
 
 /* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample, in
@@ -345,7 +354,8 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
     for (int j = 0; j < nf; ++j) out[j] = 0.0f;
     return 0;
   }
-  const sl__v4f v = sl__field_fetch(r, nf, &cell);
+  float v[SL__FIELD_LANES];
+  sl__field_fetch(r, nf, &cell, v);
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }
@@ -375,7 +385,7 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
 }
 
 /* Calls CALL(model, mode, count) for a batch whose fields sl__batch_fields packed: with the
- * subset model and its field count as a constant when the batch holds fewer than nf fields
+ * subset model and its field count (a constant up to 3) when the batch holds fewer than nf fields
  * (multiple mode only, where subsets exist), else with the whole model, and the mode as a
  * constant for the two common ones, so that each call's loops unroll and vectorise for it. */
 #define SL_WITH_BATCH_MODEL(m, held_model, held, nf, CALL) \
@@ -384,6 +394,7 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
       if ((held) == 1) CALL((held_model), SL_LIGHTING_MULTIPLE, 1); \
       else if ((nf) > 2 && (held) == 2) CALL((held_model), SL_LIGHTING_MULTIPLE, 2); \
       else if ((nf) > 3 && (held) == 3) CALL((held_model), SL_LIGHTING_MULTIPLE, 3); \
+      else CALL((held_model), SL_LIGHTING_MULTIPLE, (held)); \
     } else if ((m)->mode == SL_LIGHTING_MULTIPLE) CALL((m), SL_LIGHTING_MULTIPLE, (nf)); \
     else if ((m)->mode == SL_LIGHTING_LOW_ALBEDO) CALL((m), SL_LIGHTING_LOW_ALBEDO, (nf)); \
     else CALL((m), (int)(m)->mode, (nf)); \

@@ -113,7 +113,9 @@ expect_failure "absurd dimension" "absurd_dim.nc.*west_east.*absurd" "$sl" info 
 expect_failure "truncated netCDF-3" "truncated3.nc: truncated" "$sl" render "$work/truncated3.nc" --out "$out" --cpu-composite
 expect_failure "over --max-memory" "good.nc.*more than --max-memory.*--stride" "$sl" render "$work/good.nc" --out "$out" --max-memory 100 --cpu-composite
 expect_failure "bad --max-memory" "max-memory" "$sl" render "$work/good.nc" --out "$out" --max-memory lots --cpu-composite
-expect_failure "bad --field type" "field: 'hail=QRAIN'" "$sl" render "$work/good.nc" --out "$out" --field hail=QRAIN --cpu-composite
+expect_failure "bad --field type" "field: 'sleet=QRAIN'" "$sl" render "$work/good.nc" --out "$out" --field sleet=QRAIN --cpu-composite
+expect_failure "bad --particles" "particles: 'some'" "$sl" render "$work/good.nc" --out "$out" --particles some --cpu-composite
+expect_failure "bad --droplet-number" "droplet-number" "$sl" render "$work/good.nc" --out "$out" --droplet-number -3 --cpu-composite
 expect_failure "--field variable missing" "good.nc.*no variable 'QGRAUP'" "$sl" info "$work/good.nc" --field snow=QGRAUP
 expect_failure "--region outside the grid" "good.nc.*holds no grid column" "$sl" render "$work/good.nc" --out "$out" --region 50,51,10,11 --cpu-composite
 expect_failure "bad --levels" "levels" "$sl" render "$work/good.nc" --out "$out" --levels 3:1 --cpu-composite

@@ -7,6 +7,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "homogeneous_reference.h"
+#include "sl_optics.h"
 #include "sl_series.h"
 #include "sl_storm.h"
 #include "sl_testing.h"
@@ -104,21 +106,23 @@ static void test_density_and_single_moment(void)
   printf("air density from the loaded cloud: %.6f kg/m3, by hand %.6f (%.3f %%)\n", cloud_rho, rho,
          100.0 * (cloud_rho / rho - 1.0));
   CHECK_CLOSE(cloud_rho, rho, 1e-3, 0.0);
-  /* Graupel 2 mm at 400 kg/m3: extinction per mass 3 / (2 rho r) = 3.75 m2/kg, drawn as snow
-   * particles of Table 2's cross-section 1.41e-5 m2; hail 1 cm at 900 kg/m3: 0.3333 m2/kg. */
-  CHECK_CLOSE(eta_at(&f, SL_SNOW, 0, 0), rho * 1e-3 * 3.75 / 1.41e-5, 1e-3, 0.0);
-  CHECK_CLOSE(eta_at(&f, SL_SNOW, 1, 0), rho * 1e-3 * (1.0 / 3.0) / 1.41e-5, 1e-3, 0.0);
+  /* Graupel and hail are their own types (WSM6 gives no sizes): eta = rho_d q / m with the
+   * representative spheres, graupel 1 mm at 400 kg/m3, hail 2.5862 mm at 900 kg/m3. */
+  CHECK_CLOSE(eta_at(&f, SL_GRAUPEL, 0, 0), rho * 1e-3 / sphere_mass(1e-3, 400.0), 1e-3, 0.0);
+  CHECK_CLOSE(eta_at(&f, SL_HAIL, 1, 0), rho * 1e-3 / sphere_mass(2.5862e-3, 900.0), 1e-3, 0.0);
+  CHECK(f.volume.eta[SL_SNOW] == NULL);
   CHECK(f.nspecies == 3);
   sl_storm_frame_free(&f);
 
   /* --field snow=QGRAUP: graupel becomes the snow type itself (snow's particle mass); hail stays
-   * out of snow, QCLOUD unchanged. */
+   * hail, QCLOUD unchanged. */
   sl_load_options o = {0};
   o.field_variable[SL_SNOW] = "QGRAUP";
   if (!load(path, &o, &f)) {
     CHECK_CLOSE(eta_at(&f, SL_SNOW, 0, 0), rho * 1e-3 / sphere_mass(1.498e-3, 100.0), 1e-3, 0.0);
     CHECK_CLOSE(eta_at(&f, SL_SNOW, 1, 0), 0.0, 0.0, 0.0);
-    CHECK(f.nspecies == 2);
+    CHECK(f.volume.eta[SL_GRAUPEL] == NULL && eta_at(&f, SL_HAIL, 1, 0) > 0.0);
+    CHECK(f.nspecies == 3);
     sl_storm_frame_free(&f);
   }
   o.field_variable[SL_SNOW] = "QNOPE";
@@ -151,20 +155,253 @@ static void test_split_and_double_moment(void)
     CHECK(f.volume.eta[SL_ICE] == NULL && eta_at(&f, SL_CLOUD, 0, 0) > 0.0);
     sl_storm_frame_free(&f);
   }
-  /* Morrison (double moment): QNRAIN of a 1 mm drop's mass gives eta = rho_d QN; eight times as
-   * many drops of the same total mass have half the radius and a quarter of the cross-section. */
+  /* Morrison (double moment): rain is exponential in D (mu = 0) at 997 kg/m3, so q / QN fixes the
+   * slope, lambda^3 = 997 pi QN / q, and the effective radius 3 / (2 lambda). Against rain's tables
+   * (a lognormal of median 1 mm, s = 0.25: r_eff = 1 mm exp(2.5 s^2), water 1000 kg/m3) the cell holds
+   * eta = (rho q / m_rain) (1000 r_t) / (997 r_eff) representative drops. Eight times as many drops
+   * of the same mass have half the effective radius: twice the extinction. */
   const double m_rain = sphere_mass(1e-3, 1000.0), n1 = 1e-3 / m_rain;
   char data[512];
   snprintf(data, sizeof data, "QRAIN = 1e-3, 1e-3, 0, 0, 1e-3, 1e-3, 0, 0 ; QNRAIN = %.9g, %.9g, 0, 0, %.9g, %.9g, 0, 0 ;",
            n1, 8 * n1, n1, 8 * n1);
   const char *morrison = wrf("morrison", 10, 5.0, TWO_TIMES, "float QRAIN" Q3 " float QNRAIN" Q3, data);
   if (!load(morrison, NULL, &f)) {
-    const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
-    CHECK_CLOSE(eta_at(&f, SL_RAIN, 0, 0), rho * n1, 1e-3, 0.0);
-    CHECK_CLOSE(eta_at(&f, SL_RAIN, 1, 0), 2.0 * rho * n1, 1e-3, 0.0);
+    const double rho = sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01);
+    const double lambda = cbrt(997.0 * M_PI * (float)n1 / (float)1e-3), r_eff = 1.5 / lambda;
+    const double r_t = 1e-3 * exp(2.5 * 0.25 * 0.25);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 0, 0), rho * (float)1e-3 / m_rain * 1000.0 * r_t / (997.0 * r_eff), 1e-5, 0.0);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 1, 0), 2.0 * eta_at(&f, SL_RAIN, 0, 0), 1e-5, 0.0);
     CHECK(strcmp(f.species[0].number_variable, "QNRAIN") == 0);
+    CHECK_CLOSE(f.species_stats[0].r_eff_max, r_eff, 1e-6, 0.0);
+    CHECK_CLOSE(f.species_stats[0].r_eff_min, 0.5 * r_eff, 1e-6, 0.0);
     sl_storm_frame_free(&f);
   }
+  /* --particles representative: Riley's one particle per type, the number ignored. */
+  sl_load_options rep = {0};
+  rep.representative_particles = 1;
+  if (!load(morrison, &rep, &f)) {
+    const double rho = sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 1, 0), rho * 1e-3 / m_rain, 1e-5, 0.0);
+    CHECK(f.species[0].number_variable[0] == '\0');
+    sl_storm_frame_free(&f);
+  }
+  /* Bad numbers: negative (clamped and counted) and zero where q > 0 (counted; the representative
+   * particle there, since rain has no fixed number); never NaN. */
+  const char *bad = wrf("badnumber", 10, 5.0, TWO_TIMES, "float QRAIN" Q3 " float QNRAIN" Q3,
+                        "QRAIN = 1e-3, 1e-3, 0, 0, 1e-3, 1e-3, 0, 0 ; QNRAIN = -5, 0, 7, 0, 1, 1, 1, 1 ;");
+  if (!load(bad, NULL, &f)) {
+    const double rho = sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01);
+    CHECK(f.species_stats[0].number_negative == 1 && f.species_stats[0].number_missing == 2);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 0, 0), rho * 1e-3 / m_rain, 1e-5, 0.0);
+    CHECK(isfinite(eta_at(&f, SL_RAIN, 1, 0)) && eta_at(&f, SL_RAIN, 1, 0) > 0.0);
+    sl_storm_frame_free(&f);
+  }
+}
+
+/* Shape rules typed from the schemes' papers, independently of render/core: Morrison et al. 2005
+ * after Martin et al. 1994, and Thompson et al. 2008 (N in m^-3). */
+static double mu_martin(double n)
+{
+  const double e = 0.0005714 * n * 1e-6 + 0.2714, mu = 1.0 / (e * e) - 1.0;
+  return fmin(10.0, fmax(2.0, mu));
+}
+static double mu_thompson(double n) { return fmin(15.0, round(1000.0 / (n * 1e-6)) + 2.0); }
+
+/* Effective radius of n(D) = N0 D^mu exp(-lambda D) spheres of density rho holding mass M (kg/m3)
+ * in N (m^-3) particles, by Simpson quadrature of I_k = int x^(k+mu) exp(-x) dx (x = lambda D):
+ * M / N = rho pi / 6 I3 / (I0 lambda^3) fixes lambda, and r_eff = M3 / (2 M2) = I3 / (2 I2 lambda). */
+static double quadrature_reff(double mu, double rho, double M, double N)
+{
+  double I[4] = {0};
+  const int n = 400000;
+  const double h = 200.0 / n;
+  for (int i = 0; i <= n; ++i) {
+    const double x = i * h, w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    for (int k = 0; k < 4; ++k) I[k] += w * pow(x, k + mu) * exp(-x);
+  }
+  const double lambda = cbrt(rho * M_PI / 6.0 * N * I[3] / (I[0] * M));
+  return I[3] / (2.0 * I[2] * lambda);
+}
+
+/* The renderer's transparency straight down through the middle of a loaded volume: no sun, a sky
+ * of 1, the low-albedo model with the tables' (grey) cross-sections. */
+static double slab_transparency(const sl_storm_frame *f, const sl_optics_tables *T)
+{
+  double lo[3], hi[3];
+  sl_volume_bounds(&f->volume, lo, hi);
+  sl_scene sc = {.volume = &f->volume, .sun_direction = {0.3, 0.2, 0.9}, .slices = 64, .optics = T,
+                 .lighting = SL_LIGHTING_LOW_ALBEDO};
+  for (int c = 0; c < SL_CHANNELS; ++c) sc.sky_radiance[c] = 1.0;
+  const double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
+  sl_camera cam = {.position = {cx, cy, hi[2] + 3000.0}, .target = {cx, cy, lo[2]}, .up = {0, 1, 0}, .fov_deg = 1,
+                   .width = 3, .height = 3};
+  sl_image img;
+  if (render_frame(&sc, &cam, &img)) return NAN;
+  const double t = img.rgba[4 * 4];
+  sl_image_free(&img);
+  return t;
+}
+
+/* Sizes from the microphysics (docs/DATA.md, "Sizes"): every scheme's distribution in the table
+ * gives a cell's effective radius equal to the gamma moment ratio by quadrature; doubling the
+ * droplet number at fixed mass multiplies the cloud's optical depth by 2^(1/3) (Twomey), through the
+ * renderer; the same mass of graupel casts a darker shadow than of hail, by the ratio of extinctions
+ * their distributions predict. */
+static void test_sizes(void)
+{
+  const double rho = sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01);
+  const float q = 1e-3f;
+  /* Number per kg of dry air for cloud, rain, ice, snow, graupel, hail. */
+  const float qn[6] = {(float)(100e6 / rho), 3e3f, 1e5f, 1e4f, 2e3f, 200.0f};
+  const char *vars[6][2] = {{"QCLOUD", "QNCLOUD"}, {"QRAIN", "QNRAIN"},   {"QICE", "QNICE"},
+                            {"QSNOW", "QNSNOW"},   {"QGRAUP", "QNGRAUPEL"}, {"QHAIL", "QNHAIL"}};
+  /* Per scheme: shape rule (0 fixed mu, 1 Martin, 2 Thompson), mu, density; density 0: not sized. */
+  const struct {
+    int mp, count;
+    double rule[6], mu[6], rho[6];
+  } schemes[] = {
+      {10, 6, {1, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}, {997, 997, 500, 100, 400, 900}},  /* Morrison */
+      {28, 3, {2, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}, {1000, 1000, 890, 0, 0, 0}},      /* Thompson */
+      {17, 6, {1, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}, {1000, 1000, 917, 100, 400, 900}}, /* default */
+  };
+  for (size_t k = 0; k < sizeof schemes / sizeof schemes[0]; ++k) {
+    char decl[1024] = "", data[2048] = "", name[32];
+    for (int s = 0; s < schemes[k].count; ++s) {
+      char d[512];
+      snprintf(d, sizeof d, " float %s" Q3 " float %s" Q3, vars[s][0], vars[s][1]);
+      strcat(decl, d);
+      snprintf(d, sizeof d, " %s = %.9g, %.9g, %.9g, %.9g, %.9g, %.9g, %.9g, %.9g ; %s = %.9g, %.9g, %.9g, %.9g, %.9g, "
+               "%.9g, %.9g, %.9g ;\n", vars[s][0], q, q, q, q, q, q, q, q, vars[s][1], qn[s], qn[s], qn[s], qn[s],
+               qn[s], qn[s], qn[s], qn[s]);
+      strcat(data, d);
+    }
+    snprintf(name, sizeof name, "sizes%d", schemes[k].mp);
+    sl_storm_frame f;
+    if (load(wrf(name, schemes[k].mp, 5.0, TWO_TIMES, decl, data), NULL, &f)) continue;
+    for (int s = 0; s < f.nspecies; ++s) {
+      const int t = f.species[s].warm;
+      const double M = rho * q, N = rho * qn[t];
+      const double mu = schemes[k].rule[t] == 1 ? mu_martin(N) : schemes[k].rule[t] == 2 ? mu_thompson(N) : schemes[k].mu[t];
+      const double want = schemes[k].rho[t] > 0 ? quadrature_reff(mu, schemes[k].rho[t], M, N) : 0.0;
+      printf("MP_PHYSICS %d %s: r_eff %.6g m (quadrature %.6g, mu %.3f)\n", schemes[k].mp, vars[t][0],
+             f.species_stats[s].r_eff_max, want, mu);
+      CHECK_CLOSE(f.species_stats[s].r_eff_max, want, 1e-6, 0.0);
+      CHECK_CLOSE(f.species_stats[s].r_eff_min, want, 1e-6, 0.0);
+    }
+    sl_storm_frame_free(&f);
+  }
+
+  sl_optics_request req;
+  sl_optics_request_defaults(&req);
+  req.use_cache = 0;
+  req.particles = (1u << SL_CLOUD) | (1u << SL_GRAUPEL) | (1u << SL_HAIL);
+  req.angle_step_deg = 0.5;
+  req.radius_samples = 32;
+  sl_error err = {0};
+  sl_optics_tables *T = sl_optics_build(&req, &err);
+  CHECK_MSG(T != NULL, err.message);
+  if (!T) return;
+  /* Twomey: Thompson's droplets below 70 cm^-3 keep mu = 15, so at fixed q the effective radius goes
+   * as N^(-1/3) and the optical depth as N^(1/3). */
+  double tau[2];
+  for (int i = 0; i < 2; ++i) {
+    char data[512];
+    const float n = (float)((i ? 60e6 : 30e6) / rho);
+    snprintf(data, sizeof data, "QCLOUD = 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 ; QNCLOUD = %.9g, %.9g, "
+             "%.9g, %.9g, %.9g, %.9g, %.9g, %.9g ;", n, n, n, n, n, n, n, n);
+    sl_storm_frame f;
+    tau[i] = NAN;
+    if (load(wrf(i ? "twomey2" : "twomey1", 28, 5.0, TWO_TIMES, "float QCLOUD" Q3 " float QNCLOUD" Q3, data), NULL, &f))
+      continue;
+    tau[i] = -log(slab_transparency(&f, T));
+    sl_storm_frame_free(&f);
+  }
+  printf("Twomey: optical depth %.5f at 30 cm^-3, %.5f at 60 cm^-3, ratio %.6f (2^(1/3) = %.6f)\n", tau[0], tau[1],
+         tau[1] / tau[0], cbrt(2.0));
+  CHECK_CLOSE(tau[1] / tau[0], cbrt(2.0), 1e-5, 0.0);
+  /* Graupel and hail of the same mass (0.5 g/kg, Morrison's names without numbers: the representative
+   * distributions): optical depths in the ratio of Q lambda / (2 rho), (1500 / 400) / (580 / 900). */
+  for (int i = 0; i < 2; ++i) {
+    char decl[128], data[256];
+    const char *v = i ? "QHAIL" : "QGRAUP";
+    snprintf(decl, sizeof decl, "float %s" Q3, v);
+    snprintf(data, sizeof data, "%s = 5e-4, 5e-4, 5e-4, 5e-4, 5e-4, 5e-4, 5e-4, 5e-4 ;", v);
+    sl_storm_frame f;
+    tau[i] = NAN;
+    if (load(wrf(v, 10, 5.0, TWO_TIMES, decl, data), NULL, &f)) continue;
+    tau[i] = -log(slab_transparency(&f, T));
+    sl_storm_frame_free(&f);
+  }
+  printf("shadow: graupel optical depth %.5f, hail %.5f, ratio %.4f (distributions: %.4f)\n", tau[0], tau[1],
+         tau[0] / tau[1], (1500.0 / 400.0) / (580.0 / 900.0));
+  CHECK(tau[0] > tau[1]);
+  CHECK_CLOSE(tau[0] / tau[1], (1500.0 / 400.0) / (580.0 / 900.0), 0.01, 0.0);
+  /* And the absolute depth: 2 lambda / (2 rho) m2/kg times rho_d q times the 1000 m layer. */
+  CHECK_CLOSE(tau[0], 1500.0 / 400.0 * rho * 5e-4 * 1000.0, 0.01, 0.0);
+  sl_optics_free(T);
+}
+
+/* The same synthetic two-moment storm written with CM1's names (ptype 5) and with WRF's (Morrison,
+ * MP_PHYSICS 10): the readers must fill the same volume, numbers and sizes included. */
+static void test_cm1_wrf_numbers(void)
+{
+  const char *q4 = "1e-3, 2e-4, 0, 5e-5", *n_rain = "1000, 30000, 0, 10", *n_ice = "1e5, 2e6, 0, 3e4";
+  const char *n_snow = "1e4, 1e3, 0, 50", *n_graupel = "2000, 10, 0, 1";
+  char data[4096];
+  snprintf(data, sizeof data,
+           " qc = %s ; qr = %s ; qi = %s ; qs = %s ; qg = %s ;\n ncr = %s ; nci = %s ; ncs = %s ; ncg = %s ;\n", q4, q4,
+           q4, q4, q4, n_rain, n_ice, n_snow, n_graupel);
+  char cdl[8192];
+  snprintf(cdl, sizeof cdl,
+           "netcdf cm1n {\n dimensions: ni = 2 ; nj = 2 ; nk = 1 ; nkp1 = 2 ; time = UNLIMITED ;\n"
+           " variables: float xh(ni) ; xh:units = \"km\" ; float yh(nj) ; yh:units = \"km\" ;\n"
+           " float zh(nk) ; zh:units = \"km\" ; float zf(nkp1) ; zf:units = \"km\" ;"
+           " float time(time) ; time:units = \"seconds\" ;\n"
+           " float qc(time, nk, nj, ni) ; float qr(time, nk, nj, ni) ; float qi(time, nk, nj, ni) ;"
+           " float qs(time, nk, nj, ni) ; float qg(time, nk, nj, ni) ; float ncr(time, nk, nj, ni) ;"
+           " float nci(time, nk, nj, ni) ; float ncs(time, nk, nj, ni) ; float ncg(time, nk, nj, ni) ;\n"
+           " float prs(time, nk, nj, ni) ; float th(time, nk, nj, ni) ; float qv(time, nk, nj, ni) ;\n"
+           " :ptype = 5 ;\n data:\n xh = -0.5, 0.5 ; yh = -0.5, 0.5 ; zh = 0.5 ; zf = 0, 1 ; time = 0 ;\n%s"
+           " prs = 85000, 85000, 85000, 85000 ; th = 305, 305, 305, 305 ; qv = 0.01, 0.01, 0.01, 0.01 ;\n}\n",
+           data);
+  const char *cm1 = make("cm1numbers", cdl);
+  snprintf(data, sizeof data,
+           " QCLOUD = %s, %s ; QRAIN = %s, %s ; QICE = %s, %s ; QSNOW = %s, %s ; QGRAUP = %s, %s ;\n"
+           " QNRAIN = %s, %s ; QNICE = %s, %s ; QNSNOW = %s, %s ; QNGRAUPEL = %s, %s ;\n",
+           q4, q4, q4, q4, q4, q4, q4, q4, q4, q4, n_rain, n_rain, n_ice, n_ice, n_snow, n_snow, n_graupel, n_graupel);
+  const char *wrf_file = wrf("wrfnumbers", 10, 5.0, TWO_TIMES,
+                             "float QCLOUD" Q3 " float QRAIN" Q3 " float QICE" Q3 " float QSNOW" Q3 " float QGRAUP" Q3
+                             " float QNRAIN" Q3 " float QNICE" Q3 " float QNSNOW" Q3 " float QNGRAUPEL" Q3,
+                             data);
+  sl_storm_frame a, b;
+  if (load(cm1, NULL, &a)) return;
+  if (load(wrf_file, NULL, &b)) {
+    sl_storm_frame_free(&a);
+    return;
+  }
+  CHECK(a.volume.nx == b.volume.nx && a.volume.ny == b.volume.ny && a.volume.nz == b.volume.nz);
+  CHECK(a.nspecies == 5 && b.nspecies == 5);
+  for (int s = 0; s < a.nspecies && s < b.nspecies; ++s) {
+    CHECK(a.species[s].warm == b.species[s].warm);
+    CHECK((a.species[s].number_variable[0] != 0) == (b.species[s].number_variable[0] != 0));
+    CHECK_CLOSE(a.species_stats[s].r_eff_max, b.species_stats[s].r_eff_max, 1e-6, 0.0);
+  }
+  double worst = 0.0;
+  int compared = 0;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+    CHECK((a.volume.eta[p] == NULL) == (b.volume.eta[p] == NULL));
+    if (!a.volume.eta[p] || !b.volume.eta[p]) continue;
+    for (size_t i = 0; i < sl_volume_count(&a.volume); ++i) {
+      const double x = a.volume.eta[p][i], y = b.volume.eta[p][i];
+      if (x != 0.0 || y != 0.0) worst = fmax(worst, fabs(x - y) / fmax(fabs(x), fabs(y))), ++compared;
+    }
+  }
+  printf("CM1 and WRF names, same two-moment storm: %d cells compared, worst relative difference %.2g\n", compared,
+         worst);
+  CHECK(compared > 10);
+  CHECK(worst < 1e-5);
+  sl_storm_frame_free(&a);
+  sl_storm_frame_free(&b);
 }
 
 static void test_cm1_and_cf(void)
@@ -194,11 +431,13 @@ static void test_cm1_and_cf(void)
   sl_storm_frame f;
   if (!load(cm1, NULL, &f)) {
     const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
-    /* Bottom layer 0..500 m: cloud; top layer 500..1000 m: graupel as snow. Default dz = 250 m. */
+    /* Bottom layer 0..500 m: cloud; top layer 500..1000 m: graupel (no ptype: no sizes, the
+     * representative 1 mm sphere of 400 kg/m3). Default dz = 250 m. */
     CHECK_CLOSE(f.volume.spacing[2], 250.0, 1e-9, 0.0);
     CHECK_CLOSE(eta_at(&f, SL_CLOUD, 2, 1), rho * 1e-3 / sphere_mass(10e-6, 1000.0), 1e-3, 0.0);
-    CHECK_CLOSE(f.volume.eta[SL_SNOW][sl_volume_index(&f.volume, 2, 1, 3)], rho * 1e-3 * 3.75 / 1.41e-5, 1e-3, 0.0);
-    CHECK_CLOSE(f.volume.eta[SL_SNOW][sl_volume_index(&f.volume, 2, 1, 1)], 0.0, 0.0, 0.0);
+    CHECK_CLOSE(f.volume.eta[SL_GRAUPEL][sl_volume_index(&f.volume, 2, 1, 3)], rho * 1e-3 / sphere_mass(1e-3, 400.0),
+                1e-3, 0.0);
+    CHECK_CLOSE(f.volume.eta[SL_GRAUPEL][sl_volume_index(&f.volume, 2, 1, 1)], 0.0, 0.0, 0.0);
     sl_storm_frame_free(&f);
   }
   /* Generic CF: standard names, a Lambert grid_mapping, mass fractions per kg of moist air, a time
@@ -330,7 +569,7 @@ static void test_cm1_and_cf(void)
 static void test_subsets(const char *katrina)
 {
   sl_storm_frame full, sub;
-  if (load(katrina, NULL, &full)) return;
+  if (!CHECK(load(katrina, NULL, &full) == 0)) return;  /* the shared data beside the checkout */
   /* Stride 2: every other column, each column's water path unchanged (the vertical remap is per
    * column and conservative). */
   sl_load_options o = {.stride = 2};
@@ -400,6 +639,41 @@ static void test_series(void)
   snprintf(pattern, sizeof pattern, "%s/nothing_*.nc", dir);
   sl_error_clear(&err);
   CHECK(sl_series_open(glob_list, 1, &s, &err) == SL_ERR_IO);
+
+  /* CM1: seconds since the start, no date. Files given out of order (and a name order that is not
+   * the time order) come back in the order of their seconds; info keeps the seconds. */
+  const char *cm1_times[3] = {"1200", "600", "3600"};
+  const char *cm1_files[3];
+  for (int i = 0; i < 3; ++i) {
+    char cdl[2048], name[32];
+    snprintf(cdl, sizeof cdl,
+             "netcdf cm1t {\n dimensions: ni = 2 ; nj = 2 ; nk = 1 ; time = UNLIMITED ;\n"
+             " variables: float xh(ni) ; xh:units = \"km\" ; float yh(nj) ; yh:units = \"km\" ; float zh(nk) ;"
+             " zh:units = \"km\" ; float time(time) ; time:units = \"seconds\" ;\n"
+             " float qc(time, nk, nj, ni) ; float prs(time, nk, nj, ni) ; float th(time, nk, nj, ni) ;\n"
+             " :ptype = 5 ;\n data:\n xh = -0.5, 0.5 ; yh = -0.5, 0.5 ; zh = 0.5 ; time = %s ;\n"
+             " qc = 0, 1e-4, 0, 0 ; prs = 85000, 85000, 85000, 85000 ; th = 300, 300, 300, 300 ;\n}\n",
+             cm1_times[i]);
+    snprintf(name, sizeof name, "cm1out_00000%d", i + 1);
+    cm1_files[i] = strdup(make(name, cdl));
+  }
+  sl_error_clear(&err);
+  if (CHECK(sl_series_open(cm1_files, 3, &s, &err) == SL_OK)) {
+    CHECK(s.count == 3 && !s.has_times && s.has_elapsed);
+    CHECK(s.frames[0].elapsed_s == 600.0 && s.frames[1].elapsed_s == 1200.0 && s.frames[2].elapsed_s == 3600.0);
+    CHECK(strcmp(s.frames[0].path, cm1_files[1]) == 0 && strcmp(s.frames[2].path, cm1_files[2]) == 0);
+    sl_series_free(&s);
+  }
+  sl_storm_info *info = malloc(sizeof *info);
+  if (CHECK(sl_storm_read_info(cm1_files[0], info, &err) == SL_OK)) {
+    CHECK(info->has_elapsed && info->elapsed_s[0] == 1200.0 && !info->has_times);
+    CHECK(info->cm1_ptype == 5 && strstr(info->scheme, "Morrison"));
+  }
+  free(info);
+  const char *same[2] = {cm1_files[0], cm1_files[0]};
+  sl_error_clear(&err);
+  CHECK(sl_series_open(same, 2, &s, &err) == SL_ERR_DATA && strstr(err.message, "1200 s appears twice"));
+  for (int i = 0; i < 3; ++i) free((void *)cm1_files[i]);
 }
 
 /* The same air written with decreasing coordinates loads to the same frame: latitudes from north
@@ -633,6 +907,8 @@ int main(void)
   if (!mkdtemp(dir)) return 1;
   test_density_and_single_moment();
   test_split_and_double_moment();
+  test_sizes();
+  test_cm1_wrf_numbers();
   test_cm1_and_cf();
   test_calendars();
   test_decreasing_coordinates();
