@@ -59,7 +59,7 @@ typedef struct scheme_sizes {
  * droplets' number fixed at NDCNST = 250 cm^-3 (the scheme predicts none); densities rain 997,
  * cloud ice 500, snow 100, graupel 400, hail 900 kg/m3. */
 static const scheme_sizes MORRISON = {{
-    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 997.0, 250e6, "Morrison et al. 2005: gamma, Martin et al. 1994's mu, N 250 cm^-3"},
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 997.0, 250e6, "Morrison et al. 2005: gamma, Martin et al. 1994's mu"},
     [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 997.0, 0.0, "Morrison et al. 2005: exponential"},
     [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 500.0, 0.0, "Morrison et al. 2005: exponential, 500 kg/m3 spheres"},
     [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, "Morrison et al. 2005: exponential, 100 kg/m3 spheres"},
@@ -73,7 +73,7 @@ static const scheme_sizes MORRISON = {{
  * Field et al. 2005's two-mode spectrum) and graupel (intercept diagnosed from the mixing ratio) are
  * not spheres of one density: they keep the representative particle. */
 static const scheme_sizes THOMPSON = {{
-    [SL_CLOUD] = {SL_SHAPE_THOMPSON2008, 0.0, 1000.0, 100e6, "Thompson et al. 2008: gamma, mu = min(15, 1000/N + 2), N 100 cm^-3"},
+    [SL_CLOUD] = {SL_SHAPE_THOMPSON2008, 0.0, 1000.0, 100e6, "Thompson et al. 2008: gamma, mu = min(15, 1000/N + 2)"},
     [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, "Thompson et al. 2008: exponential"},
     [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 890.0, 0.0, "Thompson et al. 2008: exponential, 890 kg/m3 spheres"},
 }};

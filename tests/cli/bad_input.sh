@@ -134,7 +134,7 @@ else
   "$sl" info "$work/good.nc" --json
 fi
 # --field moves a variable to another particle type (info and render take the same options).
-if "$sl" info "$work/good.nc" --json --field snow=QRAIN | grep -q '"variable":"QRAIN","kind":"override","type":"snow"'; then
+if "$sl" info "$work/good.nc" --json --field snow=QRAIN | grep -q '"variable":"QRAIN","kind":"rain","type":"snow"'; then
   passes=$((passes + 1))
 else
   failures=$((failures + 1))
