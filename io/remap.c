@@ -127,12 +127,11 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
     st->q_mean = sums[i] / (double)n3;
     frame->species[i] = *sp;
-    const int own = sp->radius_m == sl_particle_properties((sl_particle)sp->warm)->radius_m;
-    if (own && !frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
+    if (!frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
   }
   frame->nspecies = nspecies;
   /* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
-   * supercell's rain before 20 minutes) gets no field, so no tables and no per-sample work. A
+   * supercell's ice and snow at 10 minutes) gets no field, so no tables and no per-sample work. A
    * storm with nothing at all keeps its first field, empty, and renders as the sky. */
   int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1;
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {

@@ -22,13 +22,12 @@ typedef enum sl_storm_format { SL_STORM_WRF = 0, SL_STORM_CM1 = 1, SL_STORM_CF =
 
 /* One hydrometeor variable of the file and the particle type(s) it feeds. A species whose warm
  * and cold types differ is split per cell at 0 C (simple-ice and warm-rain schemes). A variable
- * drawn as another type (--field) keeps its own extinction per unit mass (docs/DATA.md). */
+ * drawn as another type (--field) is that type's particle (docs/DATA.md). */
 typedef struct sl_species {
   char variable[64];          /* mixing ratio or mass fraction, kg/kg */
   char number_variable[64];   /* number per kg of dry air (double-moment schemes), "" when none */
   int warm, cold;             /* sl_particle above / below 0 C; equal when not split */
   const char *kind;           /* "cloud water", "graupel", ... (static) */
-  double radius_m, density_kg_m3; /* representative particle of the species (single-moment mass) */
   int per_moist_air;          /* CF mass fraction: per kg of moist air, not dry air */
   /* The scheme's size distribution (docs/DATA.md, "Sizes"): with the number variable, or with the
    * scheme's fixed number, each cell's effective radius scales the extinction of the warm type's

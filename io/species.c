@@ -102,9 +102,6 @@ static void species_from_def(const species_def *d, const char *variable, const s
   snprintf(sp->variable, sizeof sp->variable, "%s", variable);
   sp->warm = sp->cold = d->type;
   sp->kind = d->kind;
-  const sl_particle_props *pp = sl_particle_properties((sl_particle)d->type);
-  sp->radius_m = pp->radius_m;
-  sp->density_kg_m3 = pp->density_kg_m3;
   if (sizes && sizes->psd[d->type].density_kg_m3 > 0.0) sp->sizes = sizes->psd[d->type];
 }
 
@@ -235,8 +232,6 @@ int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_o
     snprintf(sp->variable, sizeof sp->variable, "%s", var);
     sp->warm = sp->cold = p;
     sp->kind = "override";
-    sp->radius_m = sl_particle_properties((sl_particle)p)->radius_m;
-    sp->density_kg_m3 = sl_particle_properties((sl_particle)p)->density_kg_m3;
     sp->per_moist_air = info->kind == SL_STORM_CF;
     /* A variable the file's scheme sizes (CM1's qg as hail) keeps its number variable, with the
      * scheme's distribution of the type it is now drawn as. */
@@ -273,10 +268,6 @@ int sl_storm_map_species(const sl_storm_info *info, const sl_load_options *opt, 
   return rc;
 }
 
-/* Extinction per unit mass (m2/kg) of spheres of radius r and density rho in the geometric-optics
- * limit: 2 pi r^2 / (4/3 pi r^3 rho) = 3 / (2 rho r) (Riley et al. 2004, Table 2's sigma = 2 pi r^2). */
-static double extinction_per_mass(double radius, double density) { return 3.0 / (2.0 * density * radius); }
-
 /* Effective radii outside [0.5 um, 5 cm] are no hydrometeor (a number of 1e-3 per kg beside a
  * trace of mass, quantisation's relics): clamped there, as the schemes bound their slopes. */
 #define REFF_MIN 0.5e-6
@@ -302,11 +293,9 @@ double sl_species_eta(const sl_species *sp, int target, double rho_air, double q
     return mass_conc / sl_particle_mass((sl_particle)target) * (tp->density_kg_m3 * tp->effective_radius_m) /
            (psd->density_kg_m3 * r);
   }
-  /* Single moment: the target type's representative particle, eta = rho q / m_target; a species
-   * drawn with another type's optics (an override) keeps its own extinction per unit mass. */
-  if (target != sp->warm || (sp->radius_m == tp->radius_m && sp->density_kg_m3 == tp->density_kg_m3))
-    return sl_number_concentration(rho_air, q, sl_particle_mass((sl_particle)target));
-  return mass_conc * extinction_per_mass(sp->radius_m, sp->density_kg_m3) / tp->sigma_ext_m2;
+  /* Single moment (and the cold branch of a split species, WSM3's QCLOUD below 0 C as cloud ice):
+   * the target type's representative particle, eta = rho q / m_target. */
+  return sl_number_concentration(rho_air, q, sl_particle_mass((sl_particle)target));
 }
 
 double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types)

@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 #define SL_REF_MAX_WAVELENGTHS 16
-#define SL_REF_MAX_COMPONENTS 6 /* one per particle type (sl_particles.h) */
+#define SL_REF_MAX_COMPONENTS SL_PARTICLE_COUNT /* one per particle type */
 
 /* ---- phase functions ------------------------------------------------------------------------ */
 
