@@ -190,6 +190,19 @@ int sl_cmd_info(int argc, char **argv)
       cJSON_AddNumberToObject(sizes, "number_zero_beside_mass", (double)st.number_missing);
       cJSON_AddItemToArray(species, e);
     }
+    cJSON *tables = cJSON_AddArrayToObject(root, "size_tables");
+    for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
+      const sl_size_bins &b = frame.sizes;
+      if (!b.count[t]) continue;
+      cJSON *e = cJSON_CreateObject();
+      cJSON_AddStringToObject(e, "type", sl_particle_name((sl_particle)t));
+      cJSON *radii = cJSON_AddArrayToObject(e, "effective_radii_m");
+      for (int j = 0; j < b.count[t]; ++j) cJSON_AddItemToArray(radii, cJSON_CreateNumber(b.radius_m[t][j]));
+      cJSON_AddNumberToObject(e, "cells_r_eff_p01_m", b.range_lo_m[t]);
+      cJSON_AddNumberToObject(e, "cells_r_eff_p99_m", b.range_hi_m[t]);
+      cJSON_AddBoolToObject(e, "limited_by_fields", b.limited[t]);
+      cJSON_AddItemToArray(tables, e);
+    }
     cJSON *mem = cJSON_AddObjectToObject(root, "memory");
     cJSON_AddNumberToObject(mem, "estimate_bytes", frame.memory_estimate);
     cJSON_AddNumberToObject(mem, "available_bytes", sl_machine_memory());
@@ -276,6 +289,23 @@ int sl_cmd_info(int argc, char **argv)
       std::printf("  %-9s min %11.4e  max %11.4e  mean %11.4e  negative clamped %ld  %s -> %s\n", sp.variable,
                   s.q_min, s.q_max, s.q_mean, s.negative_count, sp.kind, species_types(sp).c_str());
       std::printf("  %-9s sizes: %s\n", "", species_sizes(sp, s).c_str());
+    }
+    for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
+      const sl_size_bins &b = frame.sizes;
+      if (!b.count[t]) continue;
+      const double um = t == SL_CLOUD ? 1e6 : 1e3;
+      const char *unit = t == SL_CLOUD ? "um" : "mm";
+      std::printf("optics      %s: ", sl_particle_name((sl_particle)t));
+      if (b.count[t] == 1)
+        std::printf("one table at r_eff %.3g %s (the cells span %.3g-%.3g %s, within one step of it)\n",
+                    b.radius_m[t][0] * um, unit, b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit);
+      else {
+        std::printf("tables at r_eff");
+        for (int j = 0; j < b.count[t]; ++j) std::printf("%s %.3g", j ? "," : "", b.radius_m[t][j] * um);
+        std::printf(" %s, interpolated per cell in ln r_eff (cells %.3g-%.3g %s, 1-99 %%%s)\n", unit,
+                    b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit,
+                    b.limited[t] ? "; fewer tables than the range asks: the renderer carries 8 fields" : "");
+      }
     }
   }
   sl_storm_frame_free(&frame);

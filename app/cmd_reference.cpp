@@ -261,9 +261,7 @@ void parse_storm(const cJSON *root, const std::string &path, Scene *s, sl_error 
   if (wl != "rgb" && wl != "spectral16") throw SceneError{"\"wavelengths\" must be rgb or spectral16"};
   sl_optics_request req;
   sl_optics_request_defaults(&req);
-  req.particles = 0;
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-    if (s->frame.volume.eta[p]) req.particles |= 1u << p;
+  sl_optics_request_fields(&req, &s->frame.volume);
   if (sl_optics_request_wavelengths(&req, wl.c_str(), err)) throw SceneError{err->message};
   sl::Progress progress("tables", !quiet);
   req.progress = progress_hook;
@@ -317,9 +315,7 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
   s->sun_zenith = 90.0 - rs.sun_elevation_deg, s->sun_azimuth = rs.sun_azimuth_deg;
   sl_optics_request req;
   sl_optics_request_defaults(&req);
-  req.particles = 0;
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-    if (s->frame.volume.eta[p]) req.particles |= 1u << p;
+  sl_optics_request_fields(&req, &s->frame.volume);
   if (sl_optics_request_wavelengths(&req, rs.spectral ? "spectral16" : "rgb", err)) throw SceneError{err->message};
   sl::Progress progress("tables", !quiet);
   req.progress = progress_hook;

@@ -409,9 +409,7 @@ int sl_cmd_validate(int argc, char **argv)
     if (it != tables.end()) return it->second.get();
     sl_optics_request req;
     sl_optics_request_defaults(&req);
-    req.particles = 0;
-    for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-      if (rs.frame.volume.eta[p]) req.particles |= 1u << p;
+    sl_optics_request_fields(&req, &rs.frame.volume);
     if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) return nullptr;
     req.max_order = max_order;
     sl::Progress progress("tables", !quiet);

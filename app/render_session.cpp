@@ -135,9 +135,7 @@ bool RenderSession::prepare(const Options &opts, const std::string &path, bool q
   if (lighting != SL_LIGHTING_LOW_ALBEDO) {
     sl_optics_request req;
     sl_optics_request_defaults(&req);
-    req.particles = 0;
-    for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-      if (frame.volume.eta[p]) req.particles |= 1u << p;
+    sl_optics_request_fields(&req, &frame.volume);
     if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) return failure(err.message);
     Progress table_progress("tables", !quiet);
     req.progress = progress_hook;

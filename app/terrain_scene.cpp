@@ -267,13 +267,14 @@ bool TerrainScene::build(const sl_storm_frame &frame, const MapLayers &layers, c
     sl_terrain_light_params p{};
     p.terrain = &m.hf;
     p.volume = scene.volume;
-    for (int q = 0; q < SL_PARTICLE_COUNT; ++q) {
+    for (int q = 0; q < SL_VOLUME_SLOTS; ++q) {
       // The renderer's cross-sections (the tables' mean over wavelengths) and the tables' g; the
       // low-albedo model's Table 2 cross-sections with its isotropic phase (g = 0).
       if (!scene.optics || !scene.volume->eta[q]) continue;
       const int nw = sl_optics_wavelength_count(scene.optics);
       for (int w = 0; w < nw; ++w) {
-        const sl_phase_table *t = sl_optics_table(scene.optics, (sl_particle)q, w);
+        const sl_phase_table *t =
+            sl_optics_table_sized(scene.optics, sl_volume_field_type(scene.volume, q), scene.volume->effective_radius_m[q], w);
         if (!t) continue;
         p.sigma_ext[q] += t->sigma_ext / nw;
         p.asymmetry[q] += t->asymmetry / nw;

@@ -50,6 +50,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
   float *q = malloc(n3 * sizeof(float)), *qn = number ? malloc(n3 * sizeof(float)) : NULL;
   unsigned char *frozen = malloc(n3);
   double *sums = calloc((size_t)nspecies + 1, sizeof(double));
+  float *lnr_eta[SL_PARTICLE_COUNT] = {0};
   int rc = SL_OK;
   if (!z || !rho_dry || (moist && !rho_moist) || !q || (number && !qn) || !frozen || !sums) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %d x %d x %d cells", path, nx, ny, nz);
@@ -73,6 +74,16 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       const int p = b ? species[i].cold : species[i].warm;
       if (!frame->volume.eta[p] && (rc = sl_volume_add_field(&frame->volume, (sl_particle)p, err))) goto done;
     }
+  /* Cloud and rain with sizes from the microphysics: beside eta, the sum of eta ln(r_eff) per cell,
+   * from which io/size_bins.c draws the optics of each cell's sizes. */
+  for (int i = 0; i < nspecies; ++i) {
+    const int p = species[i].warm;
+    if ((p == SL_CLOUD || p == SL_RAIN) && species[i].sizes.density_kg_m3 > 0.0 && !lnr_eta[p] &&
+        !(lnr_eta[p] = calloc(sl_volume_count(&frame->volume), sizeof(float)))) {
+      rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for the effective-radius field", path);
+      goto done;
+    }
+  }
   for (int i = 0; i < nspecies; ++i) {
     const sl_species *sp = &species[i];
     sl_field_stats *st = &frame->species_stats[i];
@@ -123,6 +134,9 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       /* A column that sinks by the earth's curvature deposits lower in the grid. */
       const double sink = drop ? drop[c] : 0.0;
       deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
+      if (lnr_eta[target])
+        deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
+                      eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m));
     }
     if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
     st->q_mean = sums[i] / (double)n3;
@@ -144,8 +158,14 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     held += !empty[p];
   }
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-    if (empty[p] && (held > 0 || p != first)) sl_volume_drop_field(&frame->volume, (sl_particle)p);
+    if (empty[p] && (held > 0 || p != first)) {
+      sl_volume_drop_field(&frame->volume, p);
+      free(lnr_eta[p]);
+      lnr_eta[p] = NULL;
+    }
+  rc = sl_size_bins_split(&frame->volume, lnr_eta, &frame->sizes, err);
 done:
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(lnr_eta[p]);
   free(z);
   free(rho_dry);
   free(rho_moist);

@@ -77,8 +77,19 @@ typedef struct sl_storm_info {
 } sl_storm_info;
 
 /* One time of a storm file resampled to a uniform grid. */
+/* The optics tables of sized cloud and rain (io/size_bins.c): per type, the effective radii of its
+ * fields in the volume, and the range of the cells' effective radius they span. */
+typedef struct sl_size_bins {
+  int count[SL_PARTICLE_COUNT];    /* tables of the type; 0: its own (not sized) */
+  double radius_m[SL_PARTICLE_COUNT][SL_VOLUME_MAX_FIELDS];
+  double range_lo_m[SL_PARTICLE_COUNT], range_hi_m[SL_PARTICLE_COUNT]; /* 1st and 99th percentiles,
+                                                                         extinction-weighted */
+  int limited[SL_PARTICLE_COUNT];  /* fewer tables than the range asks: the fields ran out */
+} sl_size_bins;
+
 typedef struct sl_storm_frame {
   sl_volume volume;           /* eta per particle field on the ENU grid */
+  sl_size_bins sizes;         /* the tables sized cloud and rain take */
   sl_field_stats stats[SL_PARTICLE_COUNT]; /* raw statistics of the variable named after each type (QCLOUD, qc, ...) */
   double center_lat, center_lon; /* degrees, at the grid's centre column */
   sl_georef georef;           /* projection, its check against XLAT/XLONG, placement in the world frame */

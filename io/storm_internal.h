@@ -130,6 +130,10 @@ int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1
 double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn,
                       double *r_eff);
 /* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
+/* Splits each sized type's field (cloud, rain) between tables of effective radii across its range:
+ * lnr_eta[t] holds the sum of eta ln(r_eff) per cell beside v->eta[t] (NULL: not sized). */
+int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], sl_size_bins *out, sl_error *err);
+
 double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
 
 int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err);

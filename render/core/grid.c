@@ -31,19 +31,48 @@ int sl_volume_add_field(sl_volume *v, sl_particle p, sl_error *err)
   if (v->eta[p]) return SL_OK;
   v->eta[p] = calloc(sl_volume_count(v), sizeof(float));
   if (!v->eta[p]) return sl_fail(err, SL_ERR_NOMEM, "out of memory for a %dx%dx%d field", v->nx, v->ny, v->nz);
+  v->effective_radius_m[p] = 0.0;
   return SL_OK;
 }
 
-void sl_volume_drop_field(sl_volume *v, sl_particle p)
+int sl_volume_add_sized_field(sl_volume *v, sl_particle p, double r_eff_m, int *slot, sl_error *err)
 {
-  if ((int)p < 0 || p >= SL_PARTICLE_COUNT) return;
-  free(v->eta[p]);
-  v->eta[p] = NULL;
+  if ((int)p < 0 || p >= SL_PARTICLE_COUNT) return sl_fail(err, SL_ERR_ARG, "unknown particle field %d", (int)p);
+  if (!(r_eff_m >= 0.0) || !isfinite(r_eff_m))
+    return sl_fail(err, SL_ERR_ARG, "effective radius %g m of a %s field", r_eff_m, sl_particle_name(p));
+  int k = p;
+  if (v->eta[k])
+    for (k = SL_PARTICLE_COUNT; k < SL_VOLUME_SLOTS && v->eta[k]; ++k) {
+    }
+  if (k == SL_VOLUME_SLOTS || sl_volume_field_count(v) >= SL_VOLUME_MAX_FIELDS)
+    return sl_fail(err, SL_ERR_ARG, "no free field for another %s size (%d fields at most)", sl_particle_name(p),
+                   SL_VOLUME_MAX_FIELDS);
+  v->eta[k] = calloc(sl_volume_count(v), sizeof(float));
+  if (!v->eta[k]) return sl_fail(err, SL_ERR_NOMEM, "out of memory for a %dx%dx%d field", v->nx, v->ny, v->nz);
+  if (k >= SL_PARTICLE_COUNT) v->extra_type[k - SL_PARTICLE_COUNT] = p;
+  v->effective_radius_m[k] = r_eff_m;
+  *slot = k;
+  return SL_OK;
+}
+
+int sl_volume_field_count(const sl_volume *v)
+{
+  int n = 0;
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) n += v->eta[k] != NULL;
+  return n;
+}
+
+void sl_volume_drop_field(sl_volume *v, int slot)
+{
+  if (slot < 0 || slot >= SL_VOLUME_SLOTS) return;
+  free(v->eta[slot]);
+  v->eta[slot] = NULL;
+  v->effective_radius_m[slot] = 0.0;
 }
 
 void sl_volume_free(sl_volume *v)
 {
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(v->eta[p]);
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) free(v->eta[k]);
   *v = (sl_volume){0};
 }
 

@@ -13,20 +13,41 @@
 extern "C" {
 #endif
 
+/* Fields: slot p < SL_PARTICLE_COUNT holds particle type p; the slots above hold further sizes of
+ * a type (io/size_bins.c). At most SL_VOLUME_MAX_FIELDS are held at once: the renderer's eight
+ * per-sample lanes. */
+#define SL_VOLUME_SLOTS (2 * SL_PARTICLE_COUNT)
+#define SL_VOLUME_MAX_FIELDS 8
+
 typedef struct sl_volume {
   int nx, ny, nz;            /* samples along east, north, up */
   double origin[3];          /* world position of sample (0,0,0), metres */
   double spacing[3];         /* dx, dy, dz in metres, all > 0 */
-  float *eta[SL_PARTICLE_COUNT]; /* number concentration, x fastest; NULL when the field is absent */
+  float *eta[SL_VOLUME_SLOTS]; /* number concentration, x fastest; NULL when the field is absent */
+  sl_particle extra_type[SL_VOLUME_SLOTS - SL_PARTICLE_COUNT]; /* type of slot SL_PARTICLE_COUNT + i */
+  /* Effective radius of the size distribution whose optics tables the slot's particles take
+   * (sl_optics_request.sizes); 0: the type's own tables. eta counts the type's representative
+   * particles (sl_particles.h) either way. */
+  double effective_radius_m[SL_VOLUME_SLOTS];
 } sl_volume;
+
+static inline sl_particle sl_volume_field_type(const sl_volume *v, int slot)
+{
+  return slot < SL_PARTICLE_COUNT ? (sl_particle)slot : v->extra_type[slot - SL_PARTICLE_COUNT];
+}
 
 /* Allocates an empty volume (no fields). */
 int sl_volume_init(sl_volume *v, int nx, int ny, int nz, const double origin[3], const double spacing[3],
                    sl_error *err);
-/* Allocates one field filled with zeros. */
+/* Allocates type p's own field (slot p) filled with zeros. */
 int sl_volume_add_field(sl_volume *v, sl_particle p, sl_error *err);
-/* Frees one field (NULL again: the type is absent). */
-void sl_volume_drop_field(sl_volume *v, sl_particle p);
+/* Allocates a zero field of type p whose particles take the tables of effective radius r_eff_m:
+ * slot p when it is free, else the first free slot above the types. *slot receives it. */
+int sl_volume_add_sized_field(sl_volume *v, sl_particle p, double r_eff_m, int *slot, sl_error *err);
+/* Number of slots that hold a field. */
+int sl_volume_field_count(const sl_volume *v);
+/* Frees one slot's field (NULL again: absent). */
+void sl_volume_drop_field(sl_volume *v, int slot);
 void sl_volume_free(sl_volume *v);
 size_t sl_volume_count(const sl_volume *v);
 static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)

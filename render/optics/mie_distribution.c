@@ -29,10 +29,23 @@ const optics_lognormal *optics_size_distribution(sl_particle p)
   return NULL;
 }
 
-int optics_mie_distribution(sl_particle p, double wavelength_nm, const optics_grid *g, int radius_samples,
-                            optics_raw_phase *out, sl_error *err)
+double optics_lognormal_effective_radius(const optics_lognormal *d)
 {
-  const optics_lognormal *dist = optics_size_distribution(p);
+  return d->median_radius_m * exp(2.5 * d->sigma_ln * d->sigma_ln);
+}
+
+int optics_size_distribution_at(sl_particle p, double r_eff_m, optics_lognormal *out)
+{
+  const optics_lognormal *own = optics_size_distribution(p);
+  if (!own) return 0;
+  *out = *own;
+  if (r_eff_m > 0.0) out->median_radius_m = r_eff_m * exp(-2.5 * own->sigma_ln * own->sigma_ln);
+  return 1;
+}
+
+int optics_mie_distribution(sl_particle p, const optics_lognormal *dist, double wavelength_nm,
+                            const optics_grid *g, int radius_samples, optics_raw_phase *out, sl_error *err)
+{
   if (!dist) return sl_fail(err, SL_ERR_ARG, "optics: %s is not a Mie particle", sl_particle_name(p));
   if (radius_samples < 1) return sl_fail(err, SL_ERR_ARG, "optics: radius_samples must be >= 1");
   double m_re, m_im;

@@ -29,21 +29,28 @@ typedef struct optics_raw_phase {
   double asymmetry;  /* g of the untruncated P, when the model knows it; NAN otherwise */
 } optics_raw_phase;
 
+/* Lognormal size distribution of one particle type (mie_distribution.c). */
+typedef struct optics_lognormal {
+  double median_radius_m, sigma_ln;
+  const char *source;
+} optics_lognormal;
+
 /* Particle models (one file each). */
-int optics_mie_distribution(sl_particle p, double wavelength_nm, const optics_grid *g, int radius_samples,
-                            optics_raw_phase *out, sl_error *err);
+/* Water spheres over the lognormal `dist`; sigma_ext per representative particle of type p. */
+int optics_mie_distribution(sl_particle p, const optics_lognormal *dist, double wavelength_nm,
+                            const optics_grid *g, int radius_samples, optics_raw_phase *out, sl_error *err);
 int optics_ice_crystals(double wavelength_nm, const optics_grid *g, long rays, unsigned long long seed,
                         optics_raw_phase *out, sl_error *err);
 int optics_snow(double wavelength_nm, const optics_grid *g, optics_raw_phase *out, sl_error *err);
 int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, int radius_samples,
                      optics_raw_phase *out, sl_error *err);
 
-/* Lognormal size distribution of one particle type (mie_distribution.c). */
-typedef struct optics_lognormal {
-  double median_radius_m, sigma_ln;
-  const char *source;
-} optics_lognormal;
 const optics_lognormal *optics_size_distribution(sl_particle p);
+/* Type p's lognormal moved to the effective radius r_eff_m (same width: the shape the schemes'
+ * sizes are interpolated over); r_eff_m = 0 gives p's own. Returns 0 when p has none. */
+int optics_size_distribution_at(sl_particle p, double r_eff_m, optics_lognormal *out);
+/* Effective radius <r^3> / <r^2> of a lognormal: r_g exp(2.5 s^2). */
+double optics_lognormal_effective_radius(const optics_lognormal *d);
 
 /* Exponential size distribution n(D) = N0 exp(-slope D) of graupel and hail (rimed_ice.c): spheres
  * of the bulk density, Mie up to size parameter SL_RIMED_X_MIE_MAX, a large-particle limit beyond. */

@@ -31,6 +31,7 @@ extern "C" {
 #endif
 
 #define SL_OPTICS_MAX_WAVELENGTHS 64
+#define SL_OPTICS_MAX_SIZES 8
 #define SL_OPTICS_MAX_ORDER 400
 /* Bumped whenever a change alters table contents: cached tables of another version are rebuilt. */
 #define SL_OPTICS_TABLE_VERSION 2 /* 2: Warren & Brandt ice index table */
@@ -42,8 +43,17 @@ extern const double SL_WAVELENGTHS_SPECTRAL16[16];
 
 typedef void (*sl_optics_progress_fn)(void *user, double fraction);
 
+/* Tables of a type at another size: its size distribution moved to this effective radius
+ * (cloud and rain, whose lognormals render/optics/mie_distribution.c keeps). */
+typedef struct sl_optics_size {
+  sl_particle type;
+  double effective_radius_m;
+} sl_optics_size;
+
 typedef struct sl_optics_request {
   unsigned particles;        /* bit mask of (1u << sl_particle): build only the fields present */
+  int n_sizes;               /* further tables at other sizes, 0..SL_OPTICS_MAX_SIZES */
+  sl_optics_size sizes[SL_OPTICS_MAX_SIZES];
   int n_wavelengths;
   double wavelengths_nm[SL_OPTICS_MAX_WAVELENGTHS];
   double angle_step_deg;     /* table grid step in theta; must divide 90; default 0.1 */
@@ -65,6 +75,9 @@ typedef struct sl_optics_request {
 
 /* Defaults: all particle types, the paper's three wavelengths, 0.1 degree. */
 void sl_optics_request_defaults(sl_optics_request *req);
+/* The tables the fields of v take: each slot's type, or its size (sl_volume.effective_radius_m). */
+struct sl_volume;
+void sl_optics_request_fields(sl_optics_request *req, const struct sl_volume *v);
 /* Wavelength sets by name: "rgb" or "spectral16". Returns SL_ERR_ARG for other names. */
 int sl_optics_request_wavelengths(sl_optics_request *req, const char *set_name, sl_error *err);
 
@@ -96,6 +109,9 @@ int sl_optics_wavelength_count(const sl_optics_tables *tables);
 double sl_optics_wavelength(const sl_optics_tables *tables, int wl_index);
 /* NULL when the particle was not requested or wl_index is out of range. */
 const sl_phase_table *sl_optics_table(const sl_optics_tables *tables, sl_particle p, int wl_index);
+/* Type p's table at the effective radius of a requested size (0: the type's own). */
+const sl_phase_table *sl_optics_table_sized(const sl_optics_tables *tables, sl_particle p, double r_eff_m,
+                                            int wl_index);
 
 typedef struct sl_optics_stats {
   int tables_built, tables_loaded, cache_rejected; /* per particle type */

@@ -1,5 +1,6 @@
 /* sl_optics_build: the plan step. For every requested particle type, load its tables from the
  * cache when a valid file exists, otherwise compute them and store them. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +8,7 @@
 
 #include "optics_internal.h"
 #include "sl_legendre.h"
+#include "sl_volume.h"
 
 const double SL_WAVELENGTHS_RGB[3] = {650.0, 515.0, 440.0};
 const double SL_WAVELENGTHS_SPECTRAL16[16] = {380.0,        402.6666667, 425.3333333, 448.0, 470.6666667, 493.3333333,
@@ -18,8 +20,25 @@ struct sl_optics_tables {
   double wavelengths_nm[SL_OPTICS_MAX_WAVELENGTHS];
   unsigned particles;
   sl_phase_table *table[SL_PARTICLE_COUNT]; /* n_wavelengths each, or NULL */
+  int n_sizes;
+  sl_optics_size sizes[SL_OPTICS_MAX_SIZES];
+  sl_phase_table *sized[SL_OPTICS_MAX_SIZES]; /* n_wavelengths each */
   sl_optics_stats stats;
 };
+
+void sl_optics_request_fields(sl_optics_request *req, const sl_volume *v)
+{
+  req->particles = 0;
+  req->n_sizes = 0;
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) {
+    if (!v->eta[k]) continue;
+    const sl_particle p = sl_volume_field_type(v, k);
+    if (v->effective_radius_m[k] > 0.0 && req->n_sizes < SL_OPTICS_MAX_SIZES)
+      req->sizes[req->n_sizes++] = (sl_optics_size){p, v->effective_radius_m[k]};
+    else
+      req->particles |= 1u << p;
+  }
+}
 
 void sl_optics_request_defaults(sl_optics_request *req)
 {
@@ -59,8 +78,19 @@ int sl_optics_request_wavelengths(sl_optics_request *req, const char *name, sl_e
 
 static int validate(const sl_optics_request *r, sl_error *err)
 {
-  if (r->particles == 0 || r->particles >= (1u << SL_PARTICLE_COUNT))
+  if ((r->particles == 0 && r->n_sizes == 0) || r->particles >= (1u << SL_PARTICLE_COUNT))
     return sl_fail(err, SL_ERR_ARG, "optics: particle mask 0x%x names no known particle type", r->particles);
+  if (r->n_sizes < 0 || r->n_sizes > SL_OPTICS_MAX_SIZES)
+    return sl_fail(err, SL_ERR_ARG, "optics: %d sizes (0..%d)", r->n_sizes, SL_OPTICS_MAX_SIZES);
+  for (int i = 0; i < r->n_sizes; ++i) {
+    const sl_optics_size *z = &r->sizes[i];
+    optics_lognormal d;
+    if ((int)z->type < 0 || z->type >= SL_PARTICLE_COUNT || !optics_size_distribution_at(z->type, 0.0, &d))
+      return sl_fail(err, SL_ERR_ARG, "optics: tables at other sizes exist for cloud and rain, not particle %d",
+                     (int)z->type);
+    if (!(z->effective_radius_m >= 0.5e-6 && z->effective_radius_m <= 0.05))
+      return sl_fail(err, SL_ERR_ARG, "optics: effective radius %g m outside 0.5 um .. 5 cm", z->effective_radius_m);
+  }
   if (r->n_wavelengths < 1 || r->n_wavelengths > SL_OPTICS_MAX_WAVELENGTHS)
     return sl_fail(err, SL_ERR_ARG, "optics: %d wavelengths (1..%d)", r->n_wavelengths, SL_OPTICS_MAX_WAVELENGTHS);
   for (int i = 0; i < r->n_wavelengths; ++i)
@@ -83,14 +113,14 @@ static int validate(const sl_optics_request *r, sl_error *err)
 }
 
 /* Everything that changes a particle's tables goes into its cache key. */
-static void cache_key(const sl_optics_request *r, sl_particle p, int n_moments, char *key, size_t size)
+static void cache_key(const sl_optics_request *r, sl_particle p, double r_eff_m, int n_moments, char *key, size_t size)
 {
   int len = snprintf(key, size, "stormlight-optics v%d particle=%s step=%.9g trunc=%.9g moments=%d order=%d tol=%.9g",
                      SL_OPTICS_TABLE_VERSION, sl_particle_name(p), r->angle_step_deg, r->truncation_deg, n_moments,
                      r->max_order, r->max_order ? 0.0 : r->isotropy_tolerance);
-  const optics_lognormal *d = optics_size_distribution(p);
-  if (d)
-    len += snprintf(key + len, size - (size_t)len, " lognormal=%.9g,%.9g radii=%d", d->median_radius_m, d->sigma_ln,
+  optics_lognormal d;
+  if (optics_size_distribution_at(p, r_eff_m, &d))
+    len += snprintf(key + len, size - (size_t)len, " lognormal=%.9g,%.9g radii=%d", d.median_radius_m, d.sigma_ln,
                     r->radius_samples);
   const optics_exponential *e = optics_rimed_distribution(p);
   if (e)
@@ -110,7 +140,7 @@ static double now_seconds(void)
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int build_particle(const sl_optics_request *r, sl_particle p, const optics_grid *g,
+static int build_particle(const sl_optics_request *r, sl_particle p, double r_eff_m, const optics_grid *g,
                           const optics_table_params *params, sl_phase_table *tables, double progress0,
                           double progress_span, sl_error *err)
 {
@@ -118,11 +148,15 @@ static int build_particle(const sl_optics_request *r, sl_particle p, const optic
   raw.p = malloc(sizeof(double) * (size_t)g->n_angles);
   if (!raw.p) return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory");
   int status = SL_OK;
+  optics_lognormal dist;
+  const int lognormal = optics_size_distribution_at(p, r_eff_m, &dist);
   for (int w = 0; w < r->n_wavelengths && status == SL_OK; ++w) {
     const double nm = r->wavelengths_nm[w];
     switch (p) {
     case SL_CLOUD:
-    case SL_RAIN: status = optics_mie_distribution(p, nm, g, r->radius_samples, &raw, err); break;
+    case SL_RAIN:
+      status = optics_mie_distribution(p, lognormal ? &dist : NULL, nm, g, r->radius_samples, &raw, err);
+      break;
     case SL_ICE: status = optics_ice_crystals(nm, g, r->ice_rays, r->seed, &raw, err); break;
     case SL_SNOW: status = optics_snow(nm, g, &raw, err); break;
     case SL_GRAUPEL:
@@ -168,21 +202,31 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
   params.max_order = r->max_order;
   params.isotropy_tolerance = r->isotropy_tolerance;
 
+  /* The types' own tables, then the further sizes. */
   int count = 0, done = 0;
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) count += (r->particles >> p) & 1u;
+  count += r->n_sizes;
+  T->n_sizes = r->n_sizes;
+  memcpy(T->sizes, r->sizes, sizeof r->sizes);
   int status = SL_OK;
-  for (int p = 0; p < SL_PARTICLE_COUNT && status == SL_OK; ++p) {
-    if (!((r->particles >> p) & 1u)) continue;
+  for (int e = 0; e < SL_PARTICLE_COUNT + r->n_sizes && status == SL_OK; ++e) {
+    const int own = e < SL_PARTICLE_COUNT;
+    if (own && !((r->particles >> e) & 1u)) continue;
+    const sl_particle p = own ? (sl_particle)e : r->sizes[e - SL_PARTICLE_COUNT].type;
+    const double r_eff = own ? 0.0 : r->sizes[e - SL_PARTICLE_COUNT].effective_radius_m;
     sl_phase_table *tables = calloc((size_t)r->n_wavelengths, sizeof(sl_phase_table));
     if (!tables) {
       status = sl_fail(err, SL_ERR_NOMEM, "optics: out of memory");
       break;
     }
-    T->table[p] = tables;
+    if (own)
+      T->table[p] = tables;
+    else
+      T->sized[e - SL_PARTICLE_COUNT] = tables;
     char key[2048], path[1024];
-    cache_key(r, (sl_particle)p, params.n_moments, key, sizeof key);
+    cache_key(r, p, r_eff, params.n_moments, key, sizeof key);
     const unsigned long long h = optics_fnv1a(key, strlen(key), 0xcbf29ce484222325ULL);
-    snprintf(path, sizeof path, "%s/optics-%s-%016llx.bin", T->stats.cache_dir, sl_particle_name((sl_particle)p), h);
+    snprintf(path, sizeof path, "%s/optics-%s-%016llx.bin", T->stats.cache_dir, sl_particle_name(p), h);
     double t0 = now_seconds();
     if (use_cache) {
       sl_error load_err = {0};
@@ -209,7 +253,7 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
       }
     }
     t0 = now_seconds();
-    status = build_particle(r, (sl_particle)p, &g, &params, tables, (double)done / count, 1.0 / count, err);
+    status = build_particle(r, p, r_eff, &g, &params, tables, (double)done / count, 1.0 / count, err);
     T->stats.build_seconds += now_seconds() - t0;
     if (status == SL_OK) {
       T->stats.tables_built++;
@@ -233,10 +277,11 @@ sl_optics_tables *sl_optics_build(const sl_optics_request *r, sl_error *err)
 void sl_optics_free(sl_optics_tables *T)
 {
   if (!T) return;
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    if (!T->table[p]) continue;
-    for (int w = 0; w < T->n_wavelengths; ++w) optics_table_release(&T->table[p][w]);
-    free(T->table[p]);
+  for (int e = 0; e < SL_PARTICLE_COUNT + SL_OPTICS_MAX_SIZES; ++e) {
+    sl_phase_table *t = e < SL_PARTICLE_COUNT ? T->table[e] : T->sized[e - SL_PARTICLE_COUNT];
+    if (!t) continue;
+    for (int w = 0; w < T->n_wavelengths; ++w) optics_table_release(&t[w]);
+    free(t);
   }
   free(T);
 }
@@ -252,6 +297,16 @@ const sl_phase_table *sl_optics_table(const sl_optics_tables *T, sl_particle p, 
 {
   if (!T || (int)p < 0 || p >= SL_PARTICLE_COUNT || !T->table[p] || w < 0 || w >= T->n_wavelengths) return NULL;
   return &T->table[p][w];
+}
+
+const sl_phase_table *sl_optics_table_sized(const sl_optics_tables *T, sl_particle p, double r_eff_m, int w)
+{
+  if (!(r_eff_m > 0.0)) return sl_optics_table(T, p, w);
+  if (!T || w < 0 || w >= T->n_wavelengths) return NULL;
+  for (int i = 0; i < T->n_sizes; ++i)
+    if (T->sizes[i].type == p && fabs(T->sizes[i].effective_radius_m / r_eff_m - 1.0) < 1e-9 && T->sized[i])
+      return &T->sized[i][w];
+  return NULL;
 }
 
 void sl_optics_get_stats(const sl_optics_tables *T, sl_optics_stats *stats)

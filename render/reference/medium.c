@@ -408,18 +408,19 @@ sl_ref_medium *sl_ref_medium_from_volume(const sl_volume *v, const sl_optics_tab
   }
   for (int w = 0; w < d.n_wavelengths; ++w) d.wavelength_nm[w] = sl_optics_wavelength(tables, w);
   d.n_components = 0;
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    if (!v->eta[p]) continue;
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) {
+    if (!v->eta[k]) continue;
+    const sl_particle p = sl_volume_field_type(v, k);
     if (d.n_components == SL_REF_MAX_COMPONENTS) {
       sl_fail(err, SL_ERR_ARG, "reference: more than %d particle fields", SL_REF_MAX_COMPONENTS);
       return NULL;
     }
     sl_ref_component *c = &d.component[d.n_components++];
-    c->density = v->eta[p];
+    c->density = v->eta[k];
     for (int w = 0; w < d.n_wavelengths; ++w) {
-      const sl_phase_table *t = sl_optics_table(tables, (sl_particle)p, w);
+      const sl_phase_table *t = sl_optics_table_sized(tables, p, v->effective_radius_m[k], w);
       if (!t) {
-        sl_fail(err, SL_ERR_ARG, "reference: no optics table for %s at %g nm", sl_particle_name((sl_particle)p),
+        sl_fail(err, SL_ERR_ARG, "reference: no optics table for %s at %g nm", sl_particle_name(p),
                 d.wavelength_nm[w]);
         return NULL;
       }

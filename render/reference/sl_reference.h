@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 #define SL_REF_MAX_WAVELENGTHS 16
-#define SL_REF_MAX_COMPONENTS SL_PARTICLE_COUNT /* one per particle type */
+#define SL_REF_MAX_COMPONENTS SL_VOLUME_MAX_FIELDS /* one per field of the volume */
 
 /* ---- phase functions ------------------------------------------------------------------------ */
 

@@ -73,8 +73,8 @@ double sl_diffuse_transmittance(double scaled_optical_depth);
 typedef struct sl_terrain_light_params {
   const sl_heightfield *terrain;
   const sl_volume *volume;            /* the storm; NULL: no cloud */
-  double sigma_ext[SL_PARTICLE_COUNT];/* m^2 per particle (0: sl_particles.h's) */
-  double asymmetry[SL_PARTICLE_COUNT];/* g per particle */
+  double sigma_ext[SL_VOLUME_SLOTS]; /* m^2 per particle of each field (0: sl_particles.h's) */
+  double asymmetry[SL_VOLUME_SLOTS]; /* g of each field */
   const sl_atmosphere *atmosphere;    /* NULL: sun_irradiance and sky_radiance below, no air */
   double sun_irradiance[3];           /* without an atmosphere */
   double sky_radiance[3];             /* without an atmosphere */

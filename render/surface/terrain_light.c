@@ -64,9 +64,10 @@ static int cloud_grids(const sl_terrain_light_params *p, float **beta, float **s
   *beta = calloc(n, sizeof(float));
   *scaled = calloc(n, sizeof(float));
   if (!*beta || !*scaled) return sl_fail(err, SL_ERR_NOMEM, "terrain light: out of memory for the extinction grids");
-  for (int f = 0; f < SL_PARTICLE_COUNT; ++f) {
+  for (int f = 0; f < SL_VOLUME_SLOTS; ++f) {
     if (!v->eta[f]) continue;
-    const double sigma = p->sigma_ext[f] > 0.0 ? p->sigma_ext[f] : sl_particle_properties((sl_particle)f)->sigma_ext_m2;
+    const double sigma =
+        p->sigma_ext[f] > 0.0 ? p->sigma_ext[f] : sl_particle_properties(sl_volume_field_type(v, f))->sigma_ext_m2;
     const double keep = 1.0 - p->asymmetry[f];
     for (size_t i = 0; i < n; ++i) {
       const double b = v->eta[f][i] * sigma; /* Riley et al. 2004, eq. 2 */

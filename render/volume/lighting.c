@@ -19,22 +19,25 @@ int sl_light_model_init(sl_light_model *m, const sl_scene *sc, sl_error *err)
   if (sc->optics && sl_optics_wavelength_count(sc->optics) != m->nwl)
     return sl_fail(err, SL_ERR_ARG, "renderer: the particle tables have %d wavelengths, the atmosphere %d",
                    sl_optics_wavelength_count(sc->optics), m->nwl);
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    if (!sc->volume->eta[p]) continue;
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) {
+    if (!sc->volume->eta[k]) continue;
+    const sl_particle p = sl_volume_field_type(sc->volume, k);
+    const double r_eff = sc->volume->effective_radius_m[k];
     const int j = m->nf++;
-    m->field[j] = (sl_particle)p;
+    m->field[j] = p;
+    m->slot[j] = k;
     if (!sc->optics) {
-      m->sigma_ext[j] = sl_particle_properties((sl_particle)p)->sigma_ext_m2;
+      m->sigma_ext[j] = sl_particle_properties(p)->sigma_ext_m2;
       m->albedo_mean[j] = 1.0;
       for (int c = 0; c < m->nwl; ++c) m->albedo[j][c] = 1.0;
       continue;
     }
     double sigma = 0.0, albedo = 0.0;
     for (int c = 0; c < m->nwl; ++c) {
-      const sl_phase_table *t = sl_optics_table(sc->optics, (sl_particle)p, c);
+      const sl_phase_table *t = sl_optics_table_sized(sc->optics, p, r_eff, c);
       if (!t)
-        return sl_fail(err, SL_ERR_ARG, "renderer: no particle table for %s at wavelength %d",
-                       sl_particle_name((sl_particle)p), c);
+        return sl_fail(err, SL_ERR_ARG, "renderer: no particle table for %s (effective radius %g m) at wavelength %d",
+                       sl_particle_name(p), r_eff, c);
       m->table[j][c] = t;
       m->albedo[j][c] = t->albedo;
       sigma += t->sigma_ext / m->nwl;
@@ -47,7 +50,7 @@ int sl_light_model_init(sl_light_model *m, const sl_scene *sc, sl_error *err)
       const sl_phase_table *t = m->table[j][c];
       m->max_order[j][c] = t->max_order;
       if (t->max_order < 1)
-        return sl_fail(err, SL_ERR_ARG, "renderer: the %s table has no scattering orders", sl_particle_name((sl_particle)p));
+        return sl_fail(err, SL_ERR_ARG, "renderer: the %s table has no scattering orders", sl_particle_name(p));
       double *lp = malloc((size_t)(t->max_order + 1) * sizeof(double));
       if (!lp) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
       lp[0] = 0.0;
@@ -66,6 +69,7 @@ void sl_light_model_subset(const sl_light_model *m, unsigned mask, sl_light_mode
     if (!(mask >> j & 1u)) continue;
     const int k = out->nf++;
     out->field[k] = m->field[j];
+    out->slot[k] = m->slot[j];
     out->sigma_ext[k] = m->sigma_ext[j];
     out->albedo_mean[k] = m->albedo_mean[j];
     for (int c = 0; c < m->nwl; ++c) {

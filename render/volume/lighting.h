@@ -7,13 +7,14 @@
 #include "sl_optics.h"
 #include "sl_renderer.h"
 
-#define SL_MAX_FIELDS SL_PARTICLE_COUNT
+#define SL_MAX_FIELDS SL_VOLUME_MAX_FIELDS
 
 typedef struct sl_light_model {
   sl_lighting mode;
   int nwl;                          /* wavelengths carried per sample */
   int nf;                           /* particle fields present in the volume */
-  sl_particle field[SL_MAX_FIELDS];
+  sl_particle field[SL_MAX_FIELDS]; /* each field's particle type */
+  int slot[SL_MAX_FIELDS];          /* and its slot in the volume */
   double sigma_ext[SL_MAX_FIELDS];  /* m^2, mean over the wavelengths (extinction is grey) */
   double albedo_mean[SL_MAX_FIELDS];/* for the expected scattering count n (shared by all wavelengths) */
   double albedo[SL_MAX_FIELDS][SL_MAX_WAVELENGTHS];

@@ -83,14 +83,15 @@ int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err)
 {
   const size_t n = sl_volume_count(v);
   memset(beta_out, 0, n * sizeof(float));
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    if (!v->eta[p]) continue;
-    const double sigma = sl_particle_properties((sl_particle)p)->sigma_ext_m2;
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) {
+    if (!v->eta[k]) continue;
+    const sl_particle p = sl_volume_field_type(v, k);
+    const double sigma = sl_particle_properties(p)->sigma_ext_m2;
     for (size_t i = 0; i < n; ++i) {
-      const float eta = v->eta[p][i];
+      const float eta = v->eta[k][i];
       if (!(eta >= 0.0f) || !isfinite(eta))
         return sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
-                       sl_particle_name((sl_particle)p), i);
+                       sl_particle_name(p), i);
       beta_out[i] += (float)(eta * sigma); /* Riley et al. 2004, eqs. 2-3 */
     }
   }
@@ -212,7 +213,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   for (size_t i = 0; i < count; ++i) {
     double total = 0.0;
     for (int j = 0; j < nf; ++j) {
-      const float eta = scene->volume->eta[r->model.field[j]][i];
+      const float eta = scene->volume->eta[r->model.slot[j]][i];
       if (!(eta >= 0.0f) || !isfinite(eta)) {
         sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
                 sl_particle_name(r->model.field[j]), i);
