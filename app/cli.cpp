@@ -265,8 +265,12 @@ void declare_load_options(Options &o)
   o.option("field", "TYPE=VAR,...", "feed particle TYPE (cloud, rain, ice, snow, graupel, hail) from file variable VAR\n"
            "instead of the scheme's mapping (VAR 'none': leave TYPE out; CM1 run with ihail=1: hail=qg); see docs/DATA.md");
   o.option("particles", "sizes|representative", "sizes: each cell's effective radius from the scheme's size distribution\n"
-           "and number concentration scales its extinction; representative: one particle per type (Riley et al. 2004)",
+           "and number concentration scales its extinction and picks its cloud and rain phase functions;\n"
+           "representative: one particle per type (Riley et al. 2004)",
            "sizes");
+  o.option("max-fields", "N", "particle fields the renderer carries per sample, 1..8 (--gpu: at most 4); cloud and rain\n"
+           "take tables at a few effective radii in what the species leave: fewer fields, fewer tables, faster\n"
+           "samples (docs/DATA.md, \"Optics at each cell's size\")", "8");
   o.option("droplet-number", "CM3", "cloud droplets per cm^3 where the file writes no droplet number (CM1's namelist\n"
            "ndcnst; default: the scheme's, Morrison 250, Thompson 100)");
   o.option("region", "LAT0,LAT1,LON0,LON1", "read only the grid columns inside these latitudes/longitudes (WRF)");
@@ -317,6 +321,9 @@ bool parse_load_options(Options &o, LoadOptions *out, std::string *error)
     return false;
   }
   lo.representative_particles = particles == "representative";
+  long max_fields;
+  if (!o.integer("max-fields", &max_fields, 1, SL_VOLUME_MAX_FIELDS)) return *error = o.error(), false;
+  lo.max_fields = (int)max_fields;
   if (o.has("droplet-number")) {
     double n;
     if (!o.number("droplet-number", &n)) return *error = o.error(), false;

@@ -64,7 +64,8 @@ std::string species_sizes(const sl_species &sp, const sl_field_stats &st)
   }
   std::string number = sp.number_variable[0] ? std::string("N read from ") + sp.number_variable
                        : d.fixed_number_m3 > 0.0 ? "N assumed " + std::to_string((int)std::lround(d.fixed_number_m3 * 1e-6)) + " cm^-3"
-                                                 : "no N: representative particle";
+                       : d.fixed_intercept_m4 > 0.0 ? "N from the mass and the fixed intercept"
+                                                    : "no N: representative particle";
   int len = std::snprintf(text, sizeof text, "%s; %s", d.source, number.c_str());
   if (st.r_eff_max > 0.0)
     len += std::snprintf(text + len, sizeof text - (size_t)len, "; r_eff %.3g..%.3g um where q > 1e-6",
@@ -177,10 +178,17 @@ int sl_cmd_info(int argc, char **argv)
       cJSON_AddNumberToObject(e, "negative_clamped", (double)frame.species_stats[i].negative_count);
       const sl_field_stats &st = frame.species_stats[i];
       cJSON *sizes = cJSON_AddObjectToObject(e, "sizes");
-      const bool sized = sp.sizes.density_kg_m3 > 0.0 && (sp.number_variable[0] || sp.sizes.fixed_number_m3 > 0.0);
+      const bool sized = sp.sizes.density_kg_m3 > 0.0 &&
+                         (sp.number_variable[0] || sp.sizes.fixed_number_m3 > 0.0 || sp.sizes.fixed_intercept_m4 > 0.0);
       cJSON_AddStringToObject(sizes, "distribution", sized ? sp.sizes.source : "representative particle");
-      cJSON_AddStringToObject(sizes, "number", sp.number_variable[0] ? "read" : sized ? "assumed" : "none");
-      if (sized && !sp.number_variable[0]) cJSON_AddNumberToObject(sizes, "assumed_number_m3", sp.sizes.fixed_number_m3);
+      cJSON_AddStringToObject(sizes, "number", sp.number_variable[0]           ? "read"
+                                               : sp.sizes.fixed_number_m3 > 0.0 ? "assumed"
+                                               : sized                          ? "from intercept"
+                                                                                : "none");
+      if (sized && !sp.number_variable[0] && sp.sizes.fixed_number_m3 > 0.0)
+        cJSON_AddNumberToObject(sizes, "assumed_number_m3", sp.sizes.fixed_number_m3);
+      if (sized && !sp.number_variable[0] && !(sp.sizes.fixed_number_m3 > 0.0))
+        cJSON_AddNumberToObject(sizes, "intercept_m4", sp.sizes.fixed_intercept_m4);
       if (sized) cJSON_AddNumberToObject(sizes, "density_kg_m3", sp.sizes.density_kg_m3);
       if (st.r_eff_max > 0.0) {
         cJSON_AddNumberToObject(sizes, "r_eff_min_m", st.r_eff_min);

@@ -256,6 +256,7 @@ class Viewer {
       return false;
     }
     std::unique_ptr<sl::RenderSession> s(new sl::RenderSession);
+    s->for_gpu = true;
     int exit_code = 1;
     if (!s->prepare(o, state.data, true, why, &exit_code)) return false;
     session = std::move(s);

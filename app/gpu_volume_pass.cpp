@@ -28,7 +28,7 @@ vtkStandardNewMacro(GpuVolumePass);
 
 namespace {
 
-constexpr int kMaxFields = 4; // the fields travel in one RGBA texture (shaders/volume_grid.glsl)
+constexpr int kMaxFields = SL_GPU_MAX_FIELDS; // one RGBA texture (shaders/volume_grid.glsl)
 constexpr int kWavelengths = 3;
 
 double seconds_since(std::chrono::steady_clock::time_point t)

@@ -93,6 +93,7 @@ bool RenderSession::prepare(const Options &opts, const std::string &path, bool q
   std::string load_error;
   if (!parse_load_options(o, &load, &load_error)) return usage(load_error);
   load.load.time_index = (int)time_index, load.load.dz = dz;
+  if ((for_gpu || o.has("gpu")) && load.load.max_fields > SL_GPU_MAX_FIELDS) load.load.max_fields = SL_GPU_MAX_FIELDS;
   if (o.str("curvature") != "flat" && o.str("curvature") != "drop") return usage("--curvature must be flat or drop");
   load.load.earth_curvature = o.str("curvature") == "drop";
   if (o.has("origin")) {

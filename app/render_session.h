@@ -32,6 +32,9 @@ class RenderSession {
   // the grid's centre), builds the air, the tables and the renderer. False with one line; *exit
   // is 2 for a usage error, 1 for a failure.
   bool prepare(const Options &o, const std::string &path, bool quiet, std::string *why, int *exit);
+  // The volume is for the GPU pass (`view`; `render --gpu` says so by its flag): cloud and rain
+  // size tables then share its four fields (sl_load_options.max_fields).
+  bool for_gpu = false;
 
   // Another sun (compass azimuth, elevation, degrees): the light volume is lit again on the next
   // frame, on the GPU or the CPU.

@@ -1021,7 +1021,8 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
   sl_level_reader r = {&c, cf_interfaces, cf_air, cf_field};
   if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz,
-                            (const double[2]){info->dx * s.stride, info->dy * s.stride}, NULL, NULL, frame, err)))
+                            (const double[2]){info->dx * s.stride, info->dy * s.stride}, NULL, NULL,
+                            opt ? opt->max_fields : 0, frame, err)))
     goto done;
   /* CM1 and projected CF grids without a projection origin carry no position: NaN asks for the
    * sun's angles; latitude-longitude grids know their centre, projected ones find it through

@@ -30,7 +30,8 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
 
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
                     int nspecies, double ground, double top, double dz, const double spacing_h[2],
-                    const double corner[2], const double *drop, sl_storm_frame *frame, sl_error *err)
+                    const double corner[2], const double *drop, int max_fields, sl_storm_frame *frame,
+                    sl_error *err)
 {
   const int nx = s->nx, ny = s->ny, nz = s->nz;
   const size_t n2 = (size_t)nx * ny, n3 = n2 * nz;
@@ -163,7 +164,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       free(lnr_eta[p]);
       lnr_eta[p] = NULL;
     }
-  rc = sl_size_bins_split(&frame->volume, lnr_eta, &frame->sizes, err);
+  rc = sl_size_bins_split(&frame->volume, lnr_eta, max_fields, &frame->sizes, err);
 done:
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(lnr_eta[p]);
   free(z);

@@ -44,7 +44,8 @@ static double quantile(const double *h, double total, double fraction)
   return LN_R_HI;
 }
 
-int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], sl_size_bins *out, sl_error *err)
+int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], int max_fields, sl_size_bins *out,
+                       sl_error *err)
 {
   memset(out, 0, sizeof *out);
   const size_t n = sl_volume_count(v);
@@ -73,9 +74,11 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], sl
   if (!sized) return SL_OK;
   /* One table when the whole range is within one lattice step of the median; otherwise tables
    * until neighbours are at most max_ratio apart. The renderer carries SL_VOLUME_MAX_FIELDS fields
-   * per sample, so the sizes share what the types leave: each further table goes to the type whose
-   * neighbours are furthest apart for its ratio. */
-  int free_slots = SL_VOLUME_MAX_FIELDS - sl_volume_field_count(v);
+   * per sample (the GPU pass four), so the sizes share what the types leave: each further table
+   * goes to the type whose neighbours are furthest apart for its ratio. */
+  const int carried = max_fields > 0 && max_fields < SL_VOLUME_MAX_FIELDS ? max_fields : SL_VOLUME_MAX_FIELDS;
+  int free_slots = carried - sl_volume_field_count(v);
+  if (free_slots < 0) free_slots = 0;
   for (;;) {
     int worst = -1;
     double worst_excess = 1.0;

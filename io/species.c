@@ -59,12 +59,12 @@ typedef struct scheme_sizes {
  * droplets' number fixed at NDCNST = 250 cm^-3 (the scheme predicts none); densities rain 997,
  * cloud ice 500, snow 100, graupel 400, hail 900 kg/m3. */
 static const scheme_sizes MORRISON = {{
-    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 997.0, 250e6, "Morrison et al. 2005: gamma, Martin et al. 1994's mu"},
-    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 997.0, 0.0, "Morrison et al. 2005: exponential"},
-    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 500.0, 0.0, "Morrison et al. 2005: exponential, 500 kg/m3 spheres"},
-    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, "Morrison et al. 2005: exponential, 100 kg/m3 spheres"},
-    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, "Morrison et al. 2009: exponential, 400 kg/m3"},
-    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, "Morrison et al. 2009: exponential, 900 kg/m3"},
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 997.0, 250e6, 0.0, "Morrison et al. 2005: gamma, Martin et al. 1994's mu"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 997.0, 0.0, 0.0, "Morrison et al. 2005: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 500.0, 0.0, 0.0, "Morrison et al. 2005: exponential, 500 kg/m3 spheres"},
+    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, 0.0, "Morrison et al. 2005: exponential, 100 kg/m3 spheres"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, 0.0, "Morrison et al. 2009: exponential, 400 kg/m3"},
+    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, 0.0, "Morrison et al. 2009: exponential, 900 kg/m3"},
 }};
 
 /* Thompson et al. 2008 (WRF 8) and Thompson & Eidhammer 2014 (WRF 28, which predicts QNCLOUD): cloud
@@ -73,26 +73,60 @@ static const scheme_sizes MORRISON = {{
  * Field et al. 2005's two-mode spectrum) and graupel (intercept diagnosed from the mixing ratio) are
  * not spheres of one density: they keep the representative particle. */
 static const scheme_sizes THOMPSON = {{
-    [SL_CLOUD] = {SL_SHAPE_THOMPSON2008, 0.0, 1000.0, 100e6, "Thompson et al. 2008: gamma, mu = min(15, 1000/N + 2)"},
-    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, "Thompson et al. 2008: exponential"},
-    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 890.0, 0.0, "Thompson et al. 2008: exponential, 890 kg/m3 spheres"},
+    [SL_CLOUD] = {SL_SHAPE_THOMPSON2008, 0.0, 1000.0, 100e6, 0.0, "Thompson et al. 2008: gamma, mu = min(15, 1000/N + 2)"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, 0.0, "Thompson et al. 2008: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 890.0, 0.0, 0.0, "Thompson et al. 2008: exponential, 890 kg/m3 spheres"},
+}};
+
+/* Single-moment schemes' exponentials of fixed intercept N0 (m^-4), n(D) = N0 exp(-lambda D), whose
+ * slope the mass sets. WSM3/5/6/7 and WDM5/6/7 (Hong, Dudhia & Chen 2004, MWR 132, 103; Hong & Lim
+ * 2006, JKMS 42, 129; WRF's module_mp_wsm6: n0r, n0g, deng, xncr): rain 8e6 at 1000 kg/m3 (Marshall
+ * & Palmer 1948), graupel 4e6 at 500, hail (WSM7, WDM7) 4e4 at 912; cloud droplets 300 cm^-3, the
+ * scheme's xncr, with Martin et al. 1994's shape (the scheme has no droplet spectrum). Snow's
+ * intercept follows temperature, 2e6 exp(0.12 (T0 - T)), which the load does not carry: snow keeps
+ * the representative particle. The WDM schemes predict cloud and rain numbers (QNCLOUD, QNRAIN),
+ * read where present. */
+static const scheme_sizes WSM = {{
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 1000.0, 300e6, 0.0, "WSM/WDM: gamma, Martin et al. 1994's mu"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, 8e6, "WSM/WDM: exponential, N0 8e6 m^-4 (Marshall-Palmer)"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 500.0, 0.0, 4e6, "WSM/WDM: exponential, N0 4e6 m^-4, 500 kg/m3"},
+    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 912.0, 0.0, 4e4, "WSM7/WDM7: exponential, N0 4e4 m^-4, 912 kg/m3"},
+}};
+
+/* Purdue Lin (WRF 2; Lin, Farley & Orville 1983, JCAM 22, 1065, with Rutledge & Hobbs 1984's graupel,
+ * the constants WRF's own effective-radius diagnostics use): rain 8e6 at 1000, snow 3e6 at 100,
+ * graupel 4e6 at 400 kg/m3. Kessler (WRF 1) is warm rain with Marshall-Palmer drops. */
+static const scheme_sizes LIN = {{
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, 8e6, "Lin et al. 1983: exponential, N0 8e6 m^-4"},
+    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, 3e6, "Lin et al. 1983: exponential, N0 3e6 m^-4, 100 kg/m3"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, 4e6, "Rutledge & Hobbs 1984: exponential, N0 4e6 m^-4, 400 kg/m3"},
+}};
+static const scheme_sizes KESSLER = {{
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, 8e6, "Kessler 1969: exponential, N0 8e6 m^-4 (Marshall-Palmer)"},
 }};
 
 /* A double-moment variable of a scheme without a row above: exponential spheres of the type's
  * representative density; cloud droplets with Martin et al. 1994's shape. */
 static const scheme_sizes DEFAULT_SIZES = {{
-    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 1000.0, 0.0, "Stormlight default: gamma, Martin et al. 1994's mu"},
-    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, "Stormlight default: exponential"},
-    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 917.0, 0.0, "Stormlight default: exponential, solid ice"},
-    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, "Stormlight default: exponential, 100 kg/m3"},
-    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, "Stormlight default: exponential, 400 kg/m3"},
-    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, "Stormlight default: exponential, 900 kg/m3"},
+    [SL_CLOUD] = {SL_SHAPE_MARTIN1994, 0.0, 1000.0, 0.0, 0.0, "Stormlight default: gamma, Martin et al. 1994's mu"},
+    [SL_RAIN] = {SL_SHAPE_FIXED, 0.0, 1000.0, 0.0, 0.0, "Stormlight default: exponential"},
+    [SL_ICE] = {SL_SHAPE_FIXED, 0.0, 917.0, 0.0, 0.0, "Stormlight default: exponential, solid ice"},
+    [SL_SNOW] = {SL_SHAPE_FIXED, 0.0, 100.0, 0.0, 0.0, "Stormlight default: exponential, 100 kg/m3"},
+    [SL_GRAUPEL] = {SL_SHAPE_FIXED, 0.0, 400.0, 0.0, 0.0, "Stormlight default: exponential, 400 kg/m3"},
+    [SL_HAIL] = {SL_SHAPE_FIXED, 0.0, 900.0, 0.0, 0.0, "Stormlight default: exponential, 900 kg/m3"},
 }};
 
 static const scheme_sizes *scheme_sizes_of(int wrf_mp_physics, int cm1_ptype)
 {
   if (wrf_mp_physics == 10 || cm1_ptype == 5) return &MORRISON;
   if (wrf_mp_physics == 8 || wrf_mp_physics == 28 || cm1_ptype == 3) return &THOMPSON;
+  switch (wrf_mp_physics) {
+  case 3: case 4: case 6: case 14: case 16: case 24: case 26: return &WSM;
+  case 2: return &LIN;
+  case 1: return &KESSLER;
+  default: break;
+  }
+  /* CM1's ptype 2 is Goddard-LFO (Lin-type), 4 the Lin-based GSFC scheme: left to the default. */
   return NULL;
 }
 
@@ -281,7 +315,9 @@ double sl_species_eta(const sl_species *sp, int target, double rho_air, double q
   if (q <= 0.0) return 0.0;
   const double mass_conc = rho_air * q; /* kg/m3 */
   const sl_gamma_distribution *psd = &sp->sizes;
-  const double number = qn > 0.0 ? rho_dry * qn : psd->fixed_number_m3;
+  const double number = qn > 0.0                     ? rho_dry * qn
+                        : psd->fixed_number_m3 > 0.0 ? psd->fixed_number_m3
+                                                     : sl_gamma_number_from_intercept(psd, mass_conc);
   if (target == sp->warm && psd->density_kg_m3 > 0.0 && number > 0.0) {
     /* Sizes from the microphysics: the gamma distribution that holds this mass in this number has
      * the effective radius r; its extinction per unit mass, 3 Q / (4 rho r), against the target

@@ -108,10 +108,12 @@ typedef struct sl_level_reader {
 /* Fills frame->volume from the mapped species, one variable at a time, with the conservative
  * vertical remap; ground/top are the output grid's bottom and top (m); spacing_h the output's
  * horizontal spacing; corner the first column's x, y (NULL: the grid centred on 0, 0); drop, per
- * output column, how far the column sinks for the earth's curvature (NULL: none). */
+ * output column, how far the column sinks for the earth's curvature (NULL: none); max_fields the
+ * fields the renderer will carry (0: SL_VOLUME_MAX_FIELDS), which the size tables share. */
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
                     int nspecies, double ground, double top, double dz, const double spacing_h[2],
-                    const double corner[2], const double *drop, sl_storm_frame *frame, sl_error *err);
+                    const double corner[2], const double *drop, int max_fields, sl_storm_frame *frame,
+                    sl_error *err);
 
 /* Number of distinct particle types the species feed. */
 int sl_species_type_count(const sl_species *species, int n);
@@ -132,7 +134,8 @@ double sl_species_eta(const sl_species *sp, int target, double rho_air, double q
 /* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
 /* Splits each sized type's field (cloud, rain) between tables of effective radii across its range:
  * lnr_eta[t] holds the sum of eta ln(r_eff) per cell beside v->eta[t] (NULL: not sized). */
-int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], sl_size_bins *out, sl_error *err);
+int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], int max_fields, sl_size_bins *out,
+                       sl_error *err);
 
 double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
 

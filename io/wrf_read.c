@@ -479,7 +479,7 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   }
   sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field};
   if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground - max_drop, top, dz, spacing_h, corner_xy, drop,
-                            frame, err)))
+                            opt ? opt->max_fields : 0, frame, err)))
     goto done;
   if ((rc = keep_columns(frame, &w, l2, &hgt, flat ? NULL : &xlat, flat ? NULL : &xlong, a, err))) goto done;
   /* The ground sinks with its columns, so the terrain surface stays under its storm. */

@@ -282,7 +282,9 @@ int sl_synth_write(const char *path, const sl_synth_options *o, sl_error *err)
       .nx = nx, .ny = ny, .nz = nz, .ntimes = nt, .dx = o->dx, .dy = o->dx, .map_proj = 1,
       .truelat1 = truelat1, .truelat2 = truelat2, .stand_lon = o->center_lon, .cen_lat = o->center_lat,
       .cen_lon = o->center_lon, .moad_cen_lat = o->center_lat,
-      .mp_physics = 4, /* WSM5: QCLOUD, QRAIN, QICE, QSNOW */
+      /* No scheme made these fields (they are prescribed): MP_PHYSICS 0, so the reader draws them with
+       * Riley et al.'s representative particles, the model of the paper's figures, and sizes none. */
+      .mp_physics = 0,
       .title = title, .times = (const char(*)[20])times, .qcloud = qc, .qrain = qr, .qice = qi, .qsnow = qs,
       .qvapor = qv, .p = p, .pb = pb, .t = th, .ph = ph, .phb = phb, .hgt = hgt, .xlat = lat, .xlong = lon};
   const int rc = sl_wrf_write(path, &f, err);

@@ -37,3 +37,12 @@ double sl_gamma_effective_radius(const sl_gamma_distribution *d, double mass_kg_
 {
   return 0.5 * (sl_gamma_shape(d, number_m3) + 3.0) / sl_gamma_slope(d, mass_kg_m3, number_m3);
 }
+
+double sl_gamma_number_from_intercept(const sl_gamma_distribution *d, double mass_kg_m3)
+{
+  if (!(d->fixed_intercept_m4 > 0.0) || !(mass_kg_m3 > 0.0)) return 0.0;
+  const double mu = d->rule == SL_SHAPE_FIXED ? d->mu : 0.0;
+  const double lambda = pow(d->density_kg_m3 * M_PI / 6.0 * d->fixed_intercept_m4 * tgamma(mu + 4.0) / mass_kg_m3,
+                            1.0 / (mu + 4.0));
+  return d->fixed_intercept_m4 * tgamma(mu + 1.0) / pow(lambda, mu + 1.0);
+}

@@ -22,6 +22,8 @@ typedef struct sl_gamma_distribution {
   double density_kg_m3;   /* bulk density of the spheres */
   double fixed_number_m3; /* the scheme's number concentration when it predicts none (cloud
                              droplets of one-moment cloud water); 0: none */
+  double fixed_intercept_m4; /* N0 (m^-4) of a single-moment scheme's exponential (rain, graupel:
+                                Marshall-Palmer style), which the mass then scales; 0: none */
   const char *source;     /* the scheme's documentation, for reports */
 } sl_gamma_distribution;
 
@@ -30,6 +32,10 @@ double sl_gamma_shape(const sl_gamma_distribution *d, double number_m3);
 /* The slope lambda (1/m) of the distribution that holds mass content M (kg/m3) in N particles
  * per m3: M = rho pi / 6 N Gamma(mu + 4) / (Gamma(mu + 1) lambda^3). */
 double sl_gamma_slope(const sl_gamma_distribution *d, double mass_kg_m3, double number_m3);
+/* Number concentration (m^-3) of the distribution with d's fixed intercept N0 that holds mass content
+ * M: M = rho pi / 6 N0 Gamma(mu + 4) / lambda^(mu + 4) gives lambda, and N = N0 Gamma(mu + 1) /
+ * lambda^(mu + 1). 0 when d fixes no intercept. */
+double sl_gamma_number_from_intercept(const sl_gamma_distribution *d, double mass_kg_m3);
 /* Effective radius (m), half the ratio of the third to the second moment, (mu + 3) / (2 lambda):
  * the size whose spheres have the distribution's extinction per unit mass in the large-particle
  * limit (3 Q / (4 rho r_eff)). */

@@ -108,9 +108,11 @@ static int write_packed(const char *in, const char *out, double step[2])
   return nc_close(b);
 }
 
+/* Representative particles: eta is then linear in q, which the packing bound below assumes (WSM3's
+ * sizes make rain's extinction go as q^(3/4)). */
 static int load_time(const char *path, int t, sl_storm_frame *f)
 {
-  sl_load_options o = {.time_index = t};
+  sl_load_options o = {.time_index = t, .representative_particles = 1};
   sl_error err = {0};
   const int rc = sl_storm_load(path, &o, f, &err);
   if (!CHECK(rc == SL_OK)) fprintf(stderr, "%s\n", err.message);

@@ -106,7 +106,8 @@ static void test_density_and_single_moment(void)
   const double rho = hand_rho_dry(85000.0, 305.0, 0.01);
   CHECK_CLOSE(rho, 1.00092, 2e-5, 0.0);
   CHECK_CLOSE(sl_dry_air_density(85000.0, sl_temperature_from_wrf(5.0, 85000.0), 0.01), rho, 1e-3, 0.0);
-  const char *path = wrf("wsm6", 6, 5.0, TWO_TIMES, "float QCLOUD" Q3 " float QGRAUP" Q3 " float QHAIL" Q3,
+  /* Goddard (MP_PHYSICS 7): single moment with no sizes in Stormlight's table. */
+  const char *path = wrf("goddard", 7, 5.0, TWO_TIMES, "float QCLOUD" Q3 " float QGRAUP" Q3 " float QHAIL" Q3,
                          "QCLOUD = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;\n"
                          "QGRAUP = 1e-3, 0, 0, 0, 1e-3, 0, 0, 0 ; QHAIL = 0, 1e-3, 0, 0, 0, 1e-3, 0, 0 ;");
   sl_storm_frame f;
@@ -116,7 +117,7 @@ static void test_density_and_single_moment(void)
   printf("air density from the loaded cloud: %.6f kg/m3, by hand %.6f (%.3f %%)\n", cloud_rho, rho,
          100.0 * (cloud_rho / rho - 1.0));
   CHECK_CLOSE(cloud_rho, rho, 1e-3, 0.0);
-  /* Graupel and hail are their own types (WSM6 gives no sizes): eta = rho_d q / m with the
+  /* Graupel and hail are their own types (no sizes here): eta = rho_d q / m with the
    * representative spheres, graupel 1 mm at 400 kg/m3, hail 2.5862 mm at 900 kg/m3. */
   CHECK_CLOSE(eta_at(&f, SL_GRAUPEL, 0, 0), rho * 1e-3 / sphere_mass(1e-3, 400.0), 1e-3, 0.0);
   CHECK_CLOSE(eta_at(&f, SL_HAIL, 1, 0), rho * 1e-3 / sphere_mass(2.5862e-3, 900.0), 1e-3, 0.0);
@@ -233,6 +234,21 @@ static double quadrature_reff(double mu, double rho, double M, double N)
   return I[3] / (2.0 * I[2] * lambda);
 }
 
+/* The same for a single-moment exponential of fixed intercept N0 (m^-4): M = rho pi / 6 N0 I3 / lambda^4
+ * fixes lambda. */
+static double quadrature_reff_intercept(double rho, double M, double N0)
+{
+  double I[4] = {0};
+  const int n = 400000;
+  const double h = 200.0 / n;
+  for (int i = 0; i <= n; ++i) {
+    const double x = i * h, w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    for (int k = 0; k < 4; ++k) I[k] += w * pow(x, k) * exp(-x);
+  }
+  const double lambda = pow(rho * M_PI / 6.0 * N0 * (I[3] * h / 3.0) / M, 0.25);
+  return I[3] / (2.0 * I[2] * lambda);
+}
+
 /* The renderer's transparency straight down through the middle of a loaded volume: no sun, a sky
  * of 1, the low-albedo model with the tables' (grey) cross-sections. */
 static double slab_transparency(const sl_storm_frame *f, const sl_optics_tables *T)
@@ -298,6 +314,27 @@ static void test_sizes(void)
       CHECK_CLOSE(f.species_stats[s].r_eff_max, want, 1e-6, 0.0);
       CHECK_CLOSE(f.species_stats[s].r_eff_min, want, 1e-6, 0.0);
     }
+    sl_storm_frame_free(&f);
+  }
+
+  /* Single-moment schemes' fixed intercepts: WSM6's rain (8e6 m^-4, 1000 kg/m3) and graupel (4e6,
+   * 500), WSM7's hail (4e4, 912), Lin's snow (3e6, 100). */
+  const struct {
+    int mp;
+    const char *var;
+    double n0, rho;
+  } intercepts[] = {{6, "QRAIN", 8e6, 1000.0}, {6, "QGRAUP", 4e6, 500.0}, {24, "QHAIL", 4e4, 912.0}, {2, "QSNOW", 3e6, 100.0}};
+  for (size_t k = 0; k < sizeof intercepts / sizeof intercepts[0]; ++k) {
+    char decl[128], data[256], name[32];
+    snprintf(decl, sizeof decl, "float %s" Q3, intercepts[k].var);
+    snprintf(data, sizeof data, "%s = 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3 ;", intercepts[k].var);
+    snprintf(name, sizeof name, "n0_%s_%d", intercepts[k].var, intercepts[k].mp);
+    sl_storm_frame f;
+    if (load(wrf(name, intercepts[k].mp, 5.0, TWO_TIMES, decl, data), NULL, &f)) continue;
+    const double want = quadrature_reff_intercept(intercepts[k].rho, rho * (float)1e-3, intercepts[k].n0);
+    printf("MP_PHYSICS %d %s: r_eff %.6g m (quadrature with N0 %g: %.6g)\n", intercepts[k].mp, intercepts[k].var,
+           f.species_stats[0].r_eff_max, intercepts[k].n0, want);
+    CHECK_CLOSE(f.species_stats[0].r_eff_max, want, 1e-6, 0.0);
     sl_storm_frame_free(&f);
   }
 
