@@ -33,6 +33,9 @@ static double lattice(double ln_r, double (*round_fn)(double))
   return zero + step * round_fn((ln_r - zero) / step);
 }
 
+/* A range within one lattice step of its median takes one table there. */
+static int narrow(double ln_lo, double ln_hi) { return ln_hi - ln_lo < 1.5 * log(2.0) / LATTICE_PER_OCTAVE; }
+
 /* The extinction-weighted quantile of ln r over a histogram. */
 static double quantile(const double *h, double total, double fraction)
 {
@@ -83,15 +86,17 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
     int worst = -1;
     double worst_excess = 1.0;
     for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
-      if (!want[t] || hi[t] - lo[t] < 1.5 * log(2.0) / LATTICE_PER_OCTAVE) continue;
+      if (!want[t] || narrow(lo[t], hi[t])) continue;
       const double excess = want[t] == 1 ? INFINITY : (hi[t] - lo[t]) / (want[t] - 1) / log(max_ratio(t));
       if (excess > worst_excess + 1e-9) worst = t, worst_excess = excess;
     }
     if (worst < 0) break;
     if (free_slots == 0) {
-      out->limited[worst] = 1;
-      for (int t = 0; t < SL_PARTICLE_COUNT; ++t)
-        if (want[t] && hi[t] - lo[t] > (want[t] > 1 ? (want[t] - 1) * log(max_ratio(t)) : 0.0) + 1e-9) out->limited[t] = 1;
+      /* Every type whose neighbours stay wider than its ratio got fewer tables than it asks. */
+      for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
+        if (!want[t] || narrow(lo[t], hi[t])) continue;
+        out->limited[t] = want[t] == 1 || (hi[t] - lo[t]) / (want[t] - 1) > log(max_ratio(t)) + 1e-9;
+      }
       break;
     }
     want[worst]++, free_slots--;

@@ -116,6 +116,8 @@ expect_failure "bad --max-memory" "max-memory" "$sl" render "$work/good.nc" --ou
 expect_failure "bad --field type" "field: 'sleet=QRAIN'" "$sl" render "$work/good.nc" --out "$out" --field sleet=QRAIN --cpu-composite
 expect_failure "bad --particles" "particles: 'some'" "$sl" render "$work/good.nc" --out "$out" --particles some --cpu-composite
 expect_failure "bad --droplet-number" "droplet-number" "$sl" render "$work/good.nc" --out "$out" --droplet-number -3 --cpu-composite
+expect_failure "--max-fields 0" "max-fields" "$sl" render "$work/good.nc" --out "$out" --max-fields 0 --cpu-composite
+expect_failure "--max-fields 9" "max-fields" "$sl" render "$work/good.nc" --out "$out" --max-fields 9 --cpu-composite
 expect_failure "--field variable missing" "good.nc.*no variable 'QGRAUP'" "$sl" info "$work/good.nc" --field snow=QGRAUP
 expect_failure "--region outside the grid" "good.nc.*holds no grid column" "$sl" render "$work/good.nc" --out "$out" --region 50,51,10,11 --cpu-composite
 expect_failure "bad --levels" "levels" "$sl" render "$work/good.nc" --out "$out" --levels 3:1 --cpu-composite

@@ -185,6 +185,19 @@ static void test_split_and_double_moment(void)
     CHECK(strcmp(f.species[0].number_variable, "QNRAIN") == 0);
     CHECK_CLOSE(f.species_stats[0].r_eff_max, r_eff, 1e-6, 0.0);
     CHECK_CLOSE(f.species_stats[0].r_eff_min, 0.5 * r_eff, 1e-6, 0.0);
+    /* Two radii a factor 2 apart (rain's tables may be 3 apart): two tables, on the 2^(k/8) um
+     * lattice, bracketing both cells' radii. */
+    CHECK(f.sizes.count[SL_RAIN] == 2 && !f.sizes.limited[SL_RAIN]);
+    const double R0 = f.sizes.radius_m[SL_RAIN][0], R1 = f.sizes.radius_m[SL_RAIN][1];
+    CHECK(R0 <= 0.5 * r_eff * (1 + 1e-6) && R1 >= r_eff * (1 - 1e-6) && R1 / R0 < 2.0 * pow(2.0, 2.0 / 8.0) + 1e-9);
+    CHECK_CLOSE(8.0 * log2(R0 / 1e-6), round(8.0 * log2(R0 / 1e-6)), 0.0, 1e-9);
+    sl_storm_frame_free(&f);
+  }
+  /* One field in all: rain takes one table at its median, and says it asked for more. */
+  sl_load_options one = {.max_fields = 1};
+  if (!load(morrison, &one, &f)) {
+    CHECK(f.sizes.count[SL_RAIN] == 1 && f.sizes.limited[SL_RAIN] && sl_volume_field_count(&f.volume) == 1);
+    CHECK_CLOSE(eta_at(&f, SL_RAIN, 1, 0), 2.0 * eta_at(&f, SL_RAIN, 0, 0), 1e-5, 0.0);
     sl_storm_frame_free(&f);
   }
   /* --particles representative: Riley's one particle per type, the number ignored. */
