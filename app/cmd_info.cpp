@@ -304,15 +304,17 @@ int sl_cmd_info(int argc, char **argv)
       const double um = t == SL_CLOUD ? 1e6 : 1e3;
       const char *unit = t == SL_CLOUD ? "um" : "mm";
       std::printf("optics      %s: ", sl_particle_name((sl_particle)t));
+      const char *short_of_fields = "fewer tables than the range asks: no fields left (--max-fields, 8 at most)";
       if (b.count[t] == 1)
-        std::printf("one table at r_eff %.3g %s (the cells span %.3g-%.3g %s, within one step of it)\n",
-                    b.radius_m[t][0] * um, unit, b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit);
+        std::printf("one table at r_eff %.3g %s (the cells span %.3g-%.3g %s, 1-99 %%; %s)\n", b.radius_m[t][0] * um,
+                    unit, b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit,
+                    b.limited[t] ? short_of_fields : "within one step of it");
       else {
         std::printf("tables at r_eff");
         for (int j = 0; j < b.count[t]; ++j) std::printf("%s %.3g", j ? "," : "", b.radius_m[t][j] * um);
-        std::printf(" %s, interpolated per cell in ln r_eff (cells %.3g-%.3g %s, 1-99 %%%s)\n", unit,
-                    b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit,
-                    b.limited[t] ? "; fewer tables than the range asks: the renderer carries 8 fields" : "");
+        std::printf(" %s, interpolated per cell in ln r_eff (cells %.3g-%.3g %s, 1-99 %%%s%s)\n", unit,
+                    b.range_lo_m[t] * um, b.range_hi_m[t] * um, unit, b.limited[t] ? "; " : "",
+                    b.limited[t] ? short_of_fields : "");
       }
     }
   }
