@@ -1,5 +1,5 @@
 // Stormlight: a pixel's view ray and its span through the content box, shared by the eye pass and
-// the resolve (the CPU's sl__pixel_ray and sl_ray_box), in coordinates relative to the lattice's
+// the resolve (the CPU's sl_camera_pixel_ray and sl_ray_box), in coordinates relative to the lattice's
 // sample (0,0,0).
 uniform vec3 slEye;            // camera position relative to the lattice's sample (0,0,0)
 uniform vec3 slFwd, slRight, slUp;

@@ -145,12 +145,3 @@ int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], cons
     radiance[i] = sl_sky_sun_disk_light(atm->sun_irradiance[i], atm->beta_sea_level[i], gamma, z, airmass);
   return inside && !isinf(airmass);
 }
-
-void sl_sun_direction(double elevation_deg, double azimuth_deg, double out[3])
-{
-  const double rad = 3.14159265358979323846 / 180.0;
-  double ce = cos(elevation_deg * rad);
-  out[0] = ce * sin(azimuth_deg * rad);
-  out[1] = ce * cos(azimuth_deg * rad);
-  out[2] = sin(elevation_deg * rad);
-}

@@ -16,6 +16,7 @@
 
 #include <math.h>
 
+#include "sl_camera.h"
 #include "sl_sky_sample.h"
 #include "sl_status.h"
 
@@ -162,9 +163,7 @@ int sl_sky_in_sun_disk(const double dir[3], const double sun_dir[3]);
 int sl_sky_sun_disk_radiance(const sl_atmosphere *atm, const double eye[3], const double dir[3],
                              const double sun_dir[3], double *radiance);
 
-/* Unit vector toward the sun (x east, y north, z up) from elevation and azimuth in degrees,
- * azimuth clockwise from north. */
-void sl_sun_direction(double elevation_deg, double azimuth_deg, double out[3]);
+/* The unit vector toward the sun from its elevation and azimuth is sl_sun_direction (sl_camera.h). */
 
 /* Solar position: Meeus, Astronomical Algorithms (2nd ed. 1998) ch. 25 (low-accuracy solar
  * coordinates, stated accuracy 0.01 degree), with ch. 22 nutation, ch. 12 apparent sidereal time,

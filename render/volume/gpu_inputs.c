@@ -59,18 +59,18 @@ int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, 
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
-  const double h_center = sl__dot3(fwd, r->content_center), f_o = sl__dot3(fwd, o);
+  const double h_center = sl_dot3(fwd, r->content_center), f_o = sl_dot3(fwd, o);
   const size_t np = (size_t)img->width * img->height;
 #pragma omp parallel for schedule(static)
   for (size_t q = 0; q < np; ++q) {
     double d[3];
-    sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+    sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
                   (int)(q / img->width), d);
     double t0 = 0.0, t1 = 0.0;
     if (!(sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0)) t0 = t1 = 0.0;
     if (t0 < 0.0) t0 = 0.0;
     /* The light-volume pass's midplane: across the view axis through the content's centre. */
-    double t_mid = fabs(sl__dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl__dot3(fwd, d) : 0.5 * (t0 + t1);
+    double t_mid = fabs(sl_dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl_dot3(fwd, d) : 0.5 * (t0 + t1);
     t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
     sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, d, t_mid, acc + q * (size_t)stride, img, q);
   }
@@ -87,7 +87,7 @@ int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_rende
   out->nwl = r->model.nwl;
   memcpy(out->to_rgb, r->to_rgb, sizeof out->to_rgb);
   memcpy(out->sky_radiance, sc->sky_radiance, sizeof out->sky_radiance);
-  out->mid_distance = sl__dot3(fwd, r->content_center) - sl__dot3(fwd, cam->position);
+  out->mid_distance = sl_dot3(fwd, r->content_center) - sl_dot3(fwd, cam->position);
   if (!sc->atmosphere) return SL_OK;
   const sl_atmosphere *atm = sc->atmosphere;
   sl_sky_view view;

@@ -355,7 +355,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
 #pragma omp for schedule(dynamic, 64) nowait
   for (size_t q = 0; q < np; ++q) {
     double d[3];
-    sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+    sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
                   (int)(q / img->width), d);
     float a[SL_MAX_WAVELENGTHS + 2];
     memset(a, 0, sizeof a);
@@ -369,7 +369,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
       int angle_index = 0;
       double angle_weight = 0.0;
       if (grid_table) {
-        double c = sl__dot3(sun, d);
+        double c = sl_dot3(sun, d);
         c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
         const double u = acos(c) * grid_table->inv_step_rad;
         angle_index = (int)u;
@@ -384,7 +384,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         if (fabs(d[ax]) > 1e-12) dt = fmin(dt, r->shape.spacing[ax] / (march_samples * fabs(d[ax])));
       const int nsteps = sl_march_steps(t1 - t0, dt);
       dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
-      const double depth_per_t = sl__dot3(d, fwd);
+      const double depth_per_t = sl_dot3(d, fwd);
       /* The light at the end of the last step gathered (carried into the next batch when the
        * next step gathered follows it directly). */
       double carried[SL_MAX_WAVELENGTHS + 1] = {0};
@@ -492,7 +492,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
         }
       }
     }
-    double t_mid = fabs(sl__dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl__dot3(fwd, d) : 0.5 * (t0 + t1);
+    double t_mid = fabs(sl_dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl_dot3(fwd, d) : 0.5 * (t0 + t1);
     t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
     sl__resolve_pixel(r, sc->atmosphere ? f->view : NULL, d, t_mid, a, img, q);
   }
@@ -540,7 +540,7 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
   const double tan_half = tan(0.5 * cam->fov_deg * M_PI / 180.0);
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
-  const double h_center = sl__dot3(fwd, r->content_center), f_o = sl__dot3(fwd, o);
+  const double h_center = sl_dot3(fwd, r->content_center), f_o = sl_dot3(fwd, o);
   const double t_begin = omp_get_wtime();
   march_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .grid_table = grid_table,
                    .tan_half = tan_half, .aspect = aspect, .h_center = h_center, .f_o = f_o};

@@ -63,19 +63,19 @@ int sl_point_lights_project(const sl_camera *cam, const sl_point_light *lights, 
     const sl_point_light *l = &lights[k];
     const double v[3] = {l->position[0] - cam->position[0], l->position[1] - cam->position[1],
                          l->position[2] - cam->position[2]};
-    const double z = sl__dot3(v, fwd);
+    const double z = sl_dot3(v, fwd);
     if (!(z > 0.0)) continue;
-    const double sx = sl__dot3(v, right) / z, sy = sl__dot3(v, up) / z;
-    /* The inverse of sl__pixel_ray's pixel-centre map. */
+    const double sx = sl_dot3(v, right) / z, sy = sl_dot3(v, up) / z;
+    /* The inverse of sl_camera_pixel_ray's pixel-centre map. */
     const double fx = 0.5 * (sx / (tan_half * aspect) + 1.0) * cam->width;
     const double fy = 0.5 * (1.0 - sy / tan_half) * cam->height;
     if (!(fx >= 0.0 && fx < cam->width && fy >= 0.0 && fy < cam->height)) continue;
     const int px = (int)fx, py = (int)fy;
     double d[3];
-    sl__pixel_ray(fwd, right, up, tan_half, aspect, cam->width, cam->height, px, py, d);
-    const double cos_axis = sl__dot3(d, fwd);
+    sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, cam->width, cam->height, px, py, d);
+    const double cos_axis = sl_dot3(d, fwd);
     const double solid_angle = inv_f * inv_f * cos_axis * cos_axis * cos_axis;
-    const double dist2 = sl__dot3(v, v);
+    const double dist2 = sl_dot3(v, v);
     sl_light_pixel *o = &out[m++];
     o->pixel = (size_t)py * cam->width + px;
     o->ray_distance = z / cos_axis;
@@ -116,7 +116,7 @@ int sl_night_sky_fill(const sl_camera *cam, const double radiance[3], sl_image *
   for (int y = 0; y < img->height; ++y)
     for (int x = 0; x < img->width; ++x) {
       double d[3];
-      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, x, y, d);
+      sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, x, y, d);
       if (!(d[2] > 0.0)) continue;
       float *px = img->rgba + 4 * ((size_t)y * img->width + x);
       for (int c = 0; c < 3; ++c) px[c] += (float)radiance[c];

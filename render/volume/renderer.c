@@ -64,21 +64,6 @@ void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *vie
     }
 }
 
-double sl__dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-void sl__cross3(const double a[3], const double b[3], double out[3])
-{
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
-}
-int sl__normalize3(double v[3])
-{
-  const double n = sqrt(sl__dot3(v, v));
-  if (!(n > 0.0) || !isfinite(n)) return 1;
-  v[0] /= n, v[1] /= n, v[2] /= n;
-  return 0;
-}
-
 int sl_total_extinction(const sl_volume *v, float *beta_out, sl_error *err)
 {
   const size_t n = sl_volume_count(v);
@@ -107,7 +92,7 @@ int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double
   double ds = INFINITY;
   const double *rays[2] = {view_dir, light_dir};
   for (int k = 0; k < 2; ++k) {
-    const double hr = fabs(sl__dot3(h, rays[k]));
+    const double hr = fabs(sl_dot3(h, rays[k]));
     if (hr < 1e-6) continue;
     for (int a = 0; a < 3; ++a)
       if (fabs(rays[k][a]) > 1e-12) ds = fmin(ds, v->spacing[a] * hr / fabs(rays[k][a]));
@@ -119,13 +104,13 @@ int sl_slices_resolving_grid(const sl_volume *v, const double h[3], const double
 void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_slicing *out)
 {
   const double p[3] = {-sun_dir[0], -sun_dir[1], -sun_dir[2]}; /* light propagation */
-  const double vp = sl__dot3(view_dir, p);
+  const double vp = sl_dot3(view_dir, p);
   const double sign = vp >= 0.0 ? 1.0 : -1.0;
   double h[3] = {sign * view_dir[0] + p[0], sign * view_dir[1] + p[1], sign * view_dir[2] + p[2]};
-  sl__normalize3(h);
+  sl_normalize3(h);
   memcpy(out->half_vector, h, sizeof h);
   out->back_to_front = sign < 0.0;
-  double c = sl__dot3(view_dir, sun_dir);
+  double c = sl_dot3(view_dir, sun_dir);
   c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
   out->eye_sun_angle_deg = acos(c) * 180.0 / M_PI;
 }
@@ -137,7 +122,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     return NULL;
   }
   double sun[3] = {scene->sun_direction[0], scene->sun_direction[1], scene->sun_direction[2]};
-  if (sl__normalize3(sun)) {
+  if (sl_normalize3(sun)) {
     sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
     return NULL;
   }
@@ -278,7 +263,7 @@ void sl_renderer_destroy(sl_renderer *r)
 int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error *err)
 {
   double sun[3] = {sun_direction[0], sun_direction[1], sun_direction[2]};
-  if (sl__normalize3(sun)) return sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
+  if (sl_normalize3(sun)) return sl_fail(err, SL_ERR_ARG, "renderer: the sun direction is not a finite non-zero vector");
   memcpy(r->scene.sun_direction, sun, sizeof sun);
   /* The cached light volume was lit by the old sun; the next frame that needs it rebuilds it. */
   free(r->light_volume);
@@ -913,27 +898,6 @@ static inline __attribute__((always_inline)) void eye_batch_radiance(
   }
 }
 
-/* The camera's orthonormal basis; returns 1 when position = target or up is parallel to the view. */
-int sl_camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3])
-{
-  for (int a = 0; a < 3; ++a) fwd[a] = cam->target[a] - cam->position[a];
-  if (sl__normalize3(fwd)) return 1;
-  sl__cross3(fwd, cam->up, right);
-  if (sl__normalize3(right)) return 1;
-  sl__cross3(right, fwd, up);
-  return 0;
-}
-
-/* The pinhole camera: pixel centres on an image plane at distance 1 along fwd. */
-void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half,
-                      double aspect, int width, int height, int px, int py, double d[3])
-{
-  const double sx = (2.0 * (px + 0.5) / width - 1.0) * tan_half * aspect;
-  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;
-  for (int a = 0; a < 3; ++a) d[a] = fwd[a] + sx * right[a] + sy * up[a];
-  sl__normalize3(d);
-}
-
 /* Whether the kept texel spans are this frame's: the same sunlight and the same lattice. */
 static int texel_spans_hold(const sl__texel_spans *c, const double prop[3], const light_buffer *L)
 {
@@ -1057,7 +1021,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       float *st = L.state + t * L.stride;
       for (int c = 0; c < nwl; ++c) st[c] = 0.0f; /* ln I: the sunlight above the volume */
       st[nwl] = 0.0f;
-      L.h_origin[t] = sl__dot3(h, origin);
+      L.h_origin[t] = sl_dot3(h, origin);
       L.k_lo[t] = 1, L.k_hi[t] = 0;
       if (!f->spans_kept) {
         /* u_in, u_out of a miss are read (and discarded) by the light pass's vector set-up. */
@@ -1107,20 +1071,20 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
       double d[3];
-      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
+      sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
                 (int)(q / img->width), d);
       float *a = acc + q * acc_stride;
       a[nwl] = 1.0f; /* transparency toward the eye */
       double *rq = ray + q * RAY_STRIDE;
       rq[0] = d[0], rq[1] = d[1], rq[2] = d[2];
-      rq[5] = sl__dot3(h, d);
+      rq[5] = sl_dot3(h, d);
       rq[6] = rq[5] != 0.0 ? 1.0 / rq[5] : 0.0;
       pk[2 * q] = 1, pk[2 * q + 1] = 0;
       rq[3] = rq[4] = 0.0; /* an empty span until the box is hit: the resolve reads every ray's */
       angle_index[q] = 0, angle_weight[q] = 0.0f;
       if (grid_table) {
         /* Scattering angle between the sunlight's propagation and the direction to the eye. */
-        double c = sl__dot3(sun, d);
+        double c = sl_dot3(sun, d);
         c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
         const double u = acos(c) * grid_table->inv_step_rad;
         int i = (int)u;
@@ -1446,7 +1410,7 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
      * its own light: frame = L_front + T_front V + T_vol (L_back + L_sun). The layer carries
      * V' = T_front V + (1 - T_vol) L_front, so that V' + T_vol (whole sky + sun) is that frame.
      * Spectral radiance becomes linear sRGB here. */
-    const double h_center = sl__dot3(h, r->content_center);
+    const double h_center = sl_dot3(h, r->content_center);
 #pragma omp for schedule(static)
     for (size_t q = 0; q < np; ++q) {
       const double *rq = ray + q * RAY_STRIDE;
@@ -1511,14 +1475,14 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   double smin = INFINITY, smax = -INFINITY;
   for (int c = 0; c < 8; ++c) {
     const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1], c & 4 ? r->chi[2] : r->clo[2]};
-    const double s = sl__dot3(h, corner);
+    const double s = sl_dot3(h, corner);
     if (s < smin) smin = s;
     if (s > smax) smax = s;
   }
   int nslices = sc->slices;
   if (nslices == 0) nslices = sl_slices_resolving_grid(&r->shape, h, fwd, prop, smax - smin);
   const double ds = (smax - smin) / nslices;
-  const double hp = sl__dot3(h, prop); /* > 0 by construction */
+  const double hp = sl_dot3(h, prop); /* > 0 by construction */
   const double inv_hp = 1.0 / hp;
   sl__box_exit sun_exit;
   sl__box_exit_init(&sun_exit, r->clo, r->chi, sun);
@@ -1528,15 +1492,15 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   light_buffer L = {0};
   {
     const double helper[3] = {fabs(prop[2]) < 0.9 ? 0.0 : 1.0, 0.0, fabs(prop[2]) < 0.9 ? 1.0 : 0.0};
-    sl__cross3(prop, helper, L.a);
-    sl__normalize3(L.a);
-    sl__cross3(prop, L.a, L.b);
+    sl_cross3(prop, helper, L.a);
+    sl_normalize3(L.a);
+    sl_cross3(prop, L.a, L.b);
     double amax = -INFINITY, bmax = -INFINITY;
     L.amin = L.bmin = INFINITY;
     for (int c = 0; c < 8; ++c) {
       const double corner[3] = {c & 1 ? r->chi[0] : r->clo[0], c & 2 ? r->chi[1] : r->clo[1],
                                 c & 4 ? r->chi[2] : r->clo[2]};
-      const double a = sl__dot3(L.a, corner), b = sl__dot3(L.b, corner);
+      const double a = sl_dot3(L.a, corner), b = sl_dot3(L.b, corner);
       if (a < L.amin) L.amin = a;
       if (a > amax) amax = a;
       if (b < L.bmin) L.bmin = b;
@@ -1559,7 +1523,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
       const int image_limit = side > 512 ? side : 512;
       double to_centre[3];
       for (int a = 0; a < 3; ++a) to_centre[a] = r->content_center[a] - cam->position[a];
-      const double pixel = sqrt(sl__dot3(to_centre, to_centre)) * 2.0 * tan_half / img->height;
+      const double pixel = sqrt(sl_dot3(to_centre, to_centre)) * 2.0 * tan_half / img->height;
       L.texel_a = light_texel_resolving(&r->shape, L.a, extent_a, pixel, r->beta_max, image_limit);
       L.texel_b = light_texel_resolving(&r->shape, L.b, extent_b, pixel, r->beta_max, image_limit);
     }
@@ -1616,7 +1580,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
   const sl_phase_table *grid_table = nf > 0 && m->mode != SL_LIGHTING_LOW_ALBEDO ? m->table[0][0] : NULL;
   const double aspect = (double)img->width / img->height;
   const double *o = cam->position;
-  const double h_o = sl__dot3(h, o);
+  const double h_o = sl_dot3(h, o);
   slicer_frame f = {.subsets = r->has_subsets ? r->field_subsets : NULL, .r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .L = &L,
                     .eye_tiles = &eye_tiles, .light_tiles = &light_tiles, .acc = acc, .ray = ray, .pk = pk,
                     .angle_index = angle_index, .angle_weight = angle_weight, .grid_table = grid_table,
@@ -1675,7 +1639,7 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
     double L[SL_MAX_WAVELENGTHS], rgb[3], ground_depth = INFINITY;
     if (sc->atmosphere) {
       double d[3], sun_disk[SL_MAX_WAVELENGTHS];
-      sl__pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
+      sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
                 (int)(i / img->width), d);
       sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))
@@ -1684,8 +1648,8 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
       /* Where the ray meets the ground (plane or sphere), as distance along the view axis. */
       double up_eye[3];
       const double h = sl_sky_altitude(sc->atmosphere, cam->position, up_eye);
-      const double t = sl_sky_ground_distance(h, sl__dot3(d, up_eye), sc->atmosphere->ground_radius);
-      ground_depth = t * sl__dot3(d, fwd);
+      const double t = sl_sky_ground_distance(h, sl_dot3(d, up_eye), sc->atmosphere->ground_radius);
+      ground_depth = t * sl_dot3(d, fwd);
     } else {
       for (int c = 0; c < SL_CHANNELS; ++c) rgb[c] = sc->sky_radiance[c];
     }
@@ -1722,47 +1686,6 @@ void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]
   }
 }
 
-void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3])
-{
-  const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
-  out[0] = sin(az) * cos(el);
-  out[1] = cos(az) * cos(el);
-  out[2] = sin(el);
-}
-
-void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
-                     double fov_deg, int width, int height, sl_camera *cam)
-{
-  double dir[3];
-  sl_sun_vector(azimuth_deg, elevation_deg, dir);
-  double radius = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    cam->target[a] = 0.5 * (lo[a] + hi[a]);
-    radius += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
-  }
-  radius = sqrt(radius);
-  const double aspect = (double)width / height;
-  double half = 0.5 * fov_deg * M_PI / 180.0;
-  if (aspect < 1.0) half = atan(tan(half) * aspect);
-  const double distance = 1.05 * radius / sin(half);
-  for (int a = 0; a < 3; ++a) cam->position[a] = cam->target[a] + distance * dir[a];
-  cam->up[0] = 0.0, cam->up[1] = 0.0, cam->up[2] = 1.0;
-  if (fabs(dir[2]) > 0.999) cam->up[1] = 1.0, cam->up[2] = 0.0;
-  cam->fov_deg = fov_deg;
-  cam->width = width;
-  cam->height = height;
-  cam->opaque_distance = NULL; /* nothing opaque in front of the volume unless the caller says so */
-}
-
-int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
-{
-  double fwd[3], right[3], up[3];
-  if (sl_camera_basis(cam, fwd, right, up)) return 1;
-  sl__pixel_ray(fwd, right, up, tan(0.5 * cam->fov_deg * M_PI / 180.0), (double)cam->width / cam->height, cam->width,
-                cam->height, px, py, d);
-  return 0;
-}
-
 void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, float *distance)
 {
   double up[3];
@@ -1772,23 +1695,8 @@ void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, f
     for (int px = 0; px < cam->width; ++px) {
       double d[3];
       if (sl_camera_ray(cam, px, py, d)) continue;
-      const double t = sl_sky_ground_distance(h, sl__dot3(d, up), atm->ground_radius);
+      const double t = sl_sky_ground_distance(h, sl_dot3(d, up), atm->ground_radius);
       float *q = distance + (size_t)py * cam->width + px;
       if (t < *q) *q = (float)t;
-    }
-}
-
-void sl_image_opaque_depth(const sl_camera *cam, const float *distance, sl_image *img)
-{
-  double fwd[3], right[3], up[3];
-  if (sl_camera_basis(cam, fwd, right, up)) return;
-#pragma omp parallel for schedule(static)
-  for (int py = 0; py < cam->height; ++py)
-    for (int px = 0; px < cam->width; ++px) {
-      const size_t q = (size_t)py * cam->width + px;
-      double d[3];
-      if (!isfinite(distance[q]) || sl_camera_ray(cam, px, py, d)) continue;
-      const float z = (float)(distance[q] * sl__dot3(d, fwd));
-      if (!(img->depth[q] <= z)) img->depth[q] = z;
     }
 }

@@ -9,6 +9,7 @@
 
 #include "lighting.h"
 #include "sl_renderer.h"
+#include "sl_vec3.h"
 
 /* Memory for a large grid, on huge pages where the system offers them (large_alloc.c); free(). */
 void *sl__huge_alloc(size_t bytes);
@@ -79,9 +80,6 @@ typedef struct sun_table {
   double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
 } sun_table;
 
-double sl__dot3(const double a[3], const double b[3]);
-void sl__cross3(const double a[3], const double b[3], double out[3]);
-int sl__normalize3(double v[3]);
 void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
                         const double hi[3]);
 /* The sun table's row and the fraction past it at world point x's altitude, with no branch: round
@@ -400,8 +398,6 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
     else CALL((m), (int)(m)->mode, (nf)); \
   } while (0)
 
-void sl__pixel_ray(const double fwd[3], const double right[3], const double up[3], double tan_half, double aspect,
-                   int width, int height, int px, int py, double d[3]);
 /* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth
  * numerator): the aerial perspective in front of t_mid, the spectral-to-RGB conversion. */
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,

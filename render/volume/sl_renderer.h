@@ -5,6 +5,7 @@
 #ifndef SL_RENDERER_H
 #define SL_RENDERER_H
 
+#include "sl_camera.h"
 #include "sl_image.h"
 #include "sl_optics.h"
 #include "sl_sky.h"
@@ -69,15 +70,6 @@ typedef struct sl_scene {
   void *progress_user;
 } sl_scene;
 
-typedef struct sl_camera {
-  double position[3], target[3], up[3]; /* world ENU metres; up need not be orthogonal */
-  double fov_deg;                       /* vertical field of view, (0, 170) */
-  int width, height;
-  /* Opaque surfaces (terrain): per pixel, rows from the top, the distance along the pixel's unit
-   * ray (sl_camera_ray) to the first opaque surface, +inf where none; eye rays stop there. NULL:
-   * nothing opaque. Not owned. */
-  const float *opaque_distance;
-} sl_camera;
 
 /* Which way the slices go for a camera: exposed for tests and reports. */
 typedef struct sl_slicing {
@@ -127,30 +119,13 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_ima
 
 /* The box around the samples with non-zero extinction (the whole box when all are empty). */
 void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]);
-/* A camera looking at the box's centre from compass azimuth `azimuth_deg` (clockwise from
- * north, the direction from the target to the camera) and elevation `elevation_deg`, far
- * enough that the box's bounding sphere fills the view. */
-void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
-                     double fov_deg, int width, int height, sl_camera *cam);
-/* The camera's orthonormal basis: forward (toward the target), right (forward x up) and up
- * (made orthogonal); returns 1 when the position equals the target or up is parallel to the view. */
-int sl_camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);
-/* Unit vector toward a sun at compass azimuth (clockwise from north) and elevation, degrees. */
-void sl_sun_vector(double azimuth_deg, double elevation_deg, double out[3]);
-
-/* The ray through pixel (px, py) of the pinhole camera (unit direction, world frame): the one
- * every renderer of the project uses. Returns 1 for a degenerate camera. */
-int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3]);
+/* The camera, its rays and the direction from compass angles: sl_camera.h (render/core). */
 
 /* The earth as an opaque surface: lowers each pixel's distance (rows from the top, along the unit
  * ray, as sl_camera.opaque_distance) to where its ray meets the atmosphere's ground
  * (sl_sky_ground_distance: the plane z = 0 or the sphere), so eye rays stop there and what lies
  * beyond the horizon is hidden. distance has width * height values. */
 void sl_camera_ground_distance(const sl_camera *cam, const sl_atmosphere *atm, float *distance);
-
-/* The view-axis depth (sl_image.depth) of opaque surfaces at a distance along each pixel's unit
- * ray: img->depth becomes the nearer of its own and t * (ray . forward), per pixel. */
-void sl_image_opaque_depth(const sl_camera *cam, const float *distance, sl_image *img);
 
 /* Kniss et al.'s half-angle choice: h = normalize(v + p) when the view vector v and the light's
  * propagation direction p lie in the same hemisphere, else normalize(-v + p) with the eye

@@ -83,7 +83,7 @@ int main(void)
   double sigma = 0.0;
   for (int c = 0; c < 3; ++c) sigma += sl_optics_table(opt, SL_CLOUD, c)->sigma_ext / 3.0;
   double sun[3];
-  sl_sun_vector(230.0, 35.0, sun);
+  sl_sun_direction(35.0, 230.0, sun);
   const double lo[3] = {-2000, -2000, 1000}, hi[3] = {2000, 2000, 3000};
   sl_camera cam = {.position = {-1000, -9000, 2500}, .target = {0, 0, 2000}, .up = {0, 0, 1}, .fov_deg = 40,
                    .width = 48, .height = 36};

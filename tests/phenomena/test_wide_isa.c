@@ -75,7 +75,7 @@ int main(void)
           for (int base = 0; base < 2; ++base) {
             sl_scene sc = {.volume = &v, .optics = opt[spec], .atmosphere = spec ? &atm16 : &atm3,
                            .lighting = models[mi], .xi = 0.05, .baseline_isa = base, .light_volume = lv};
-            sl_sun_vector(suns[si][0], suns[si][1], sc.sun_direction);
+            sl_sun_direction(suns[si][1], suns[si][0], sc.sun_direction);
             /* The volume's layer alone (no sky behind it), so the comparison weighs only the volume. */
             sl_renderer *r = sl_renderer_create(&sc, &err);
             sl_render_stats st = {0};

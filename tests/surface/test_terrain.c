@@ -102,7 +102,7 @@ static void test_cloud_shadow(void)
   for (int k = 0; k < 3; ++k) p.sun_irradiance[k] = 1.0, p.sky_radiance[k] = 0.0;
   const double elevations[] = {90, 60, 35, 20};
   for (int e = 0; e < 4; ++e) {
-    sl_sun_vector(130.0, elevations[e], p.sun_direction);
+    sl_sun_direction(elevations[e], 130.0, p.sun_direction);
     double radiance[25 * 3];
     float trans[25];
     sl_error err;
@@ -132,7 +132,7 @@ static void test_lambert(void)
   for (int i = 0; i < 9; ++i) albedo[i] = 0.06f;
   sl_terrain_light_params p = {.terrain = &hf, .albedo = albedo,
                                .sun_irradiance = {1.0, 0.8, 0.6}, .sky_radiance = {0.02, 0.03, 0.05}};
-  sl_sun_vector(200.0, 30.0, p.sun_direction);
+  sl_sun_direction(30.0, 200.0, p.sun_direction);
   double radiance[27];
   sl_error err;
   CHECK(sl_terrain_light(&p, radiance, NULL, &err) == SL_OK);
@@ -166,7 +166,7 @@ static void test_wall_shadow(void)
   for (int i = 0; i < nx * ny; ++i) albedo[i] = 0.2f;
   sl_terrain_light_params p = {.terrain = &hf, .albedo = albedo, .sun_irradiance = {1, 1, 1}};
   const double elevation = 30.0;
-  sl_sun_vector(270.0, elevation, p.sun_direction); /* sun in the west: shadows fall east */
+  sl_sun_direction(elevation, 270.0, p.sun_direction); /* sun in the west: shadows fall east */
   double *radiance = malloc(sizeof(double) * nx * ny * 3);
   sl_error err;
   CHECK(sl_terrain_light(&p, radiance, NULL, &err) == SL_OK);
@@ -192,7 +192,7 @@ static void test_rays_stop_at_ground(int light_volume)
   sl_volume v;
   make_box_volume(&v, 30, 30, 20, lo, hi, beta);
   sl_scene sc = {.volume = &v, .light_volume = light_volume, .slices = 400};
-  sl_sun_vector(150.0, 50.0, sc.sun_direction);
+  sl_sun_direction(50.0, 150.0, sc.sun_direction);
   for (int c = 0; c < 3; ++c) sc.sun_irradiance[c] = 1.0;
   sl_camera cam = {.position = {0, -9000, 6000}, .target = {0, 0, 1000}, .up = {0, 0, 1}, .fov_deg = 45,
                    .width = 48, .height = 48};

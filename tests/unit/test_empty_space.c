@@ -138,7 +138,7 @@ static void test_walk(void)
   cloud[sl_volume_index(&v, WX - 1, 40, 30)] = 1e7f; /* in the last, clamped cells */
   cloud[sl_volume_index(&v, 70, WY - 1, WZ - 1)] = 1e7f;
   sl_scene sc = {.volume = &v, .slices = 64, .lighting = SL_LIGHTING_LOW_ALBEDO};
-  sl_sun_vector(240.0, 35.0, sc.sun_direction);
+  sl_sun_direction(35.0, 240.0, sc.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0;
   sl_renderer *r = sl_renderer_create(&sc, &err);
   if (!CHECK_MSG(r != NULL, err.message)) return;
@@ -155,7 +155,7 @@ static void test_walk(void)
       /* Toward a blob's voxel, give or take a cell. */
       const int b = (int)(uniform() * 9);
       for (int a = 0; a < 3; ++a) d[a] = aim[b][a] + spacing[a] * (2.0 * uniform() - 1.0) - o[a];
-      sl__normalize3(d);
+      sl_normalize3(d);
     }
     if (k % 10 == 1) d[0] = d[1] = 0.0, d[2] = k % 20 == 1 ? 1.0 : -1.0;
     if (k % 10 == 2) d[0] = d[2] = sqrt(0.5), d[1] = 0.0;
@@ -237,7 +237,7 @@ int main(void)
         for (int w = 0; w < 2; ++w) {
           sl_scene sc = {.volume = vols[w], .slices = 64, .lighting = SL_LIGHTING_LOW_ALBEDO, .light_volume = mode == 1};
           if (mode == 2) sc.lighting = SL_LIGHTING_MULTIPLE, sc.optics = optics, sc.xi = 0.01;
-          sl_sun_vector(suns[si][0], suns[si][1], sc.sun_direction);
+          sl_sun_direction(suns[si][1], suns[si][0], sc.sun_direction);
           for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
           sl_renderer *r = sl_renderer_create(&sc, &err);
           if (!CHECK(r != NULL)) return sl_test_finish("test_empty_space");
@@ -274,7 +274,7 @@ int main(void)
     for (int w = 0; w < 2; ++w) {
       sl_scene sc = {.volume = &sparse, .slices = 64, .lighting = SL_LIGHTING_MULTIPLE, .optics = optics,
                      .xi = w ? 0.2 : 0.01};
-      sl_sun_vector(240.0, 35.0, sc.sun_direction);
+      sl_sun_direction(35.0, 240.0, sc.sun_direction);
       for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
       sl_renderer *r = sl_renderer_create(&sc, &err);
       if (!CHECK(r != NULL)) return sl_test_finish("test_empty_space");
@@ -306,7 +306,7 @@ int main(void)
     const int n_frames = (int)(sizeof frames / sizeof frames[0]);
     sl_scene sc = {.volume = &sparse, .slices = 64, .lighting = SL_LIGHTING_MULTIPLE, .optics = optics, .xi = 0.01};
     for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
-    sl_sun_vector(frames[0][0], frames[0][1], sc.sun_direction);
+    sl_sun_direction(frames[0][1], frames[0][0], sc.sun_direction);
     sl_renderer *live = sl_renderer_create(&sc, &err);
     if (!CHECK(live != NULL)) return sl_test_finish("test_empty_space");
     double lo[3], hi[3];
@@ -319,7 +319,7 @@ int main(void)
        * brick), so that the frames above are known to have read them. */
       const int spoil = k == n_frames;
       const double *fr = frames[spoil ? n_frames - 1 : k];
-      sl_sun_vector(fr[0], fr[1], sc.sun_direction);
+      sl_sun_direction(fr[1], fr[0], sc.sun_direction);
       sl_camera cam;
       sl_camera_frame(lo, hi, fr[2], fr[3], 40.0, 64, 48, &cam);
       CHECK(sl_renderer_set_sun(live, sc.sun_direction, &err) == SL_OK);

@@ -59,7 +59,7 @@ static void render_deck(const sl_volume *v, const sl_optics_tables *optics, int 
   res->mean_error = res->worst_error = res->structure = INFINITY;
   sl_scene sc = {.volume = v, .slices = slices, .light_resolution = light_resolution, .optics = optics,
                  .lighting = optics ? SL_LIGHTING_MULTIPLE : SL_LIGHTING_LOW_ALBEDO};
-  sl_sun_vector(kSunAzimuth, kSunElevation, sc.sun_direction);
+  sl_sun_direction(kSunElevation, kSunAzimuth, sc.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
   const double top = v->origin[2] + (NZ - 0.5) * v->spacing[2];
   sl_camera cam = {.position = {-431796, -1023292, 454341 + top}, .target = {0, 0, top}, .up = {0, 0, 1},

@@ -20,7 +20,7 @@ int main(void)
   for (size_t e = 0; e < 3 * sizeof elevations / sizeof elevations[0]; ++e) {
     const int march_samples = e < 4 ? 2 : e < 8 ? 1 : 4;
     double sun[3];
-    sl_sun_vector(210.0, elevations[e % 4], sun);
+    sl_sun_direction(elevations[e % 4], 210.0, sun);
     sl_scene sc = {.volume = &v, .light_volume = 1, .march_samples = march_samples};
     memcpy(sc.sun_direction, sun, sizeof sun);
     for (int c = 0; c < 3; ++c) sc.sun_irradiance[c] = 1.0;
@@ -61,7 +61,7 @@ int main(void)
   }
   /* Threads: the sweep and the march are per sample and per pixel. */
   sl_scene sc = {.volume = &v, .light_volume = 1, .termination_transparency = 1e-6};
-  sl_sun_vector(100.0, 30.0, sc.sun_direction);
+  sl_sun_direction(30.0, 100.0, sc.sun_direction);
   for (int c = 0; c < 3; ++c) sc.sun_irradiance[c] = 1.0;
   sl_camera cam = {.position = {3000, -8000, 4000}, .target = {0, 0, 1500}, .up = {0, 0, 1}, .fov_deg = 35,
                    .width = 40, .height = 30};

@@ -21,7 +21,7 @@ int main(void)
     return sl_test_finish("test_threads");
   }
   sl_scene sc = {.volume = &frame.volume, .slices = 96};
-  sl_sun_vector(240.0, 35.0, sc.sun_direction);
+  sl_sun_direction(35.0, 240.0, sc.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0;
   sl_renderer *r = sl_renderer_create(&sc, &err);
   CHECK(r != NULL);
