@@ -178,8 +178,7 @@ int sl_cmd_info(int argc, char **argv)
       cJSON_AddNumberToObject(e, "negative_clamped", (double)frame.species_stats[i].negative_count);
       const sl_field_stats &st = frame.species_stats[i];
       cJSON *sizes = cJSON_AddObjectToObject(e, "sizes");
-      const bool sized = sp.sizes.density_kg_m3 > 0.0 &&
-                         (sp.number_variable[0] || sp.sizes.fixed_number_m3 > 0.0 || sp.sizes.fixed_intercept_m4 > 0.0);
+      const bool sized = sl_species_sized(&sp);
       cJSON_AddStringToObject(sizes, "distribution", sized ? sp.sizes.source : "representative particle");
       cJSON_AddStringToObject(sizes, "number", sp.number_variable[0]           ? "read"
                                                : sp.sizes.fixed_number_m3 > 0.0 ? "assumed"

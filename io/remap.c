@@ -79,7 +79,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
    * from which io/size_bins.c draws the optics of each cell's sizes. */
   for (int i = 0; i < nspecies; ++i) {
     const int p = species[i].warm;
-    if ((p == SL_CLOUD || p == SL_RAIN) && species[i].sizes.density_kg_m3 > 0.0 && !lnr_eta[p] &&
+    if ((p == SL_CLOUD || p == SL_RAIN) && sl_species_sized(&species[i]) && !lnr_eta[p] &&
         !(lnr_eta[p] = calloc(sl_volume_count(&frame->volume), sizeof(float)))) {
       rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for the effective-radius field", path);
       goto done;

@@ -35,6 +35,10 @@ typedef struct sl_species {
   sl_gamma_distribution sizes;
 } sl_species;
 
+/* Whether the species' sizes follow from the microphysics: a distribution, and a number read,
+ * fixed by the scheme or implied by its fixed intercept. Otherwise the representative particle. */
+int sl_species_sized(const sl_species *sp);
+
 typedef struct sl_field_stats {
   int present;           /* the file has a variable feeding this particle type */
   double q_min, q_max;   /* kg/kg, before clamping */

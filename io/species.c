@@ -307,6 +307,12 @@ int sl_storm_map_species(const sl_storm_info *info, const sl_load_options *opt, 
 #define REFF_MIN 0.5e-6
 #define REFF_MAX 0.05
 
+int sl_species_sized(const sl_species *sp)
+{
+  const sl_gamma_distribution *d = &sp->sizes;
+  return d->density_kg_m3 > 0.0 && (sp->number_variable[0] || d->fixed_number_m3 > 0.0 || d->fixed_intercept_m4 > 0.0);
+}
+
 double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn,
                       double *r_eff)
 {

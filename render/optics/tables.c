@@ -26,6 +26,8 @@ struct sl_optics_tables {
   sl_optics_stats stats;
 };
 
+_Static_assert(SL_OPTICS_MAX_SIZES >= SL_VOLUME_MAX_FIELDS, "every field of a volume may be a size");
+
 void sl_optics_request_fields(sl_optics_request *req, const sl_volume *v)
 {
   req->particles = 0;
@@ -33,7 +35,7 @@ void sl_optics_request_fields(sl_optics_request *req, const sl_volume *v)
   for (int k = 0; k < SL_VOLUME_SLOTS; ++k) {
     if (!v->eta[k]) continue;
     const sl_particle p = sl_volume_field_type(v, k);
-    if (v->effective_radius_m[k] > 0.0 && req->n_sizes < SL_OPTICS_MAX_SIZES)
+    if (v->effective_radius_m[k] > 0.0)
       req->sizes[req->n_sizes++] = (sl_optics_size){p, v->effective_radius_m[k]};
     else
       req->particles |= 1u << p;
