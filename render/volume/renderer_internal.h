@@ -1,4 +1,4 @@
-/* Internals shared by the two eye passes of render/volume: the half-angle slicer (renderer.c)
+/* Internals shared by the two eye passes of render/volume: the half-angle slicer (slicer.c)
  * and the ray marcher over a cached light volume (light_volume.c). Not a public header. */
 #ifndef SL_RENDERER_INTERNAL_H
 #define SL_RENDERER_INTERNAL_H
@@ -10,6 +10,7 @@
 #include "lighting.h"
 #include "sl_renderer.h"
 #include "sl_vec3.h"
+#include "sun_table.h"
 
 /* Memory for a large grid, on huge pages where the system offers them (large_alloc.c); free(). */
 void *sl__huge_alloc(size_t bytes);
@@ -17,12 +18,12 @@ void *sl__huge_alloc(size_t bytes);
 /* The slicer's light-buffer texels' rays (parallel, along the sunlight) through the content box
  * and the stretch of each that crosses occupied bricks, kept from the last frame: they depend on
  * the sun and the texel lattice, not on the camera, and their walks were about 9 ms of a 0.21 s
- * frame (docs/PERFORMANCE.md, session 16). A frame with the same sun and lattice (a camera path
+ * frame. A frame with the same sun and lattice (a camera path
  * at a fixed distance, the same view again) reads them; any other recomputes them. The key is
  * the lattice's exact numbers, so a kept frame is bitwise the frame it would have computed. */
 /* The optical depth along a light texel's ray at which the medium counts as entered (u_entry
  * below). Before it ln I and n change by at most this much, which bounds what the kink model of
- * light_kink (renderer.c) can misplace where the medium thickens gradually (haze). */
+ * light_kink (light_kink.h) can misplace where the medium thickens gradually (haze). */
 #define SL__ENTRY_DEPTH 0.01
 
 typedef struct sl__texel_spans {
@@ -34,7 +35,7 @@ typedef struct sl__texel_spans {
   double *first, *last;  /* its occupied stretch within that (first > last: none) */
   float *u_entry;        /* where along it the medium begins: the optical depth from the box reaches
                             SL__ENTRY_DEPTH there (NaN: never); the eye pass places the light's kink
-                            at a cloud's surface between texels by it (renderer.c, light_kink) */
+                            at a cloud's surface between texels by it (light_kink.h) */
 } sl__texel_spans;
 
 struct sl_renderer {
@@ -68,65 +69,6 @@ struct sl_renderer {
   double content_center[3]; /* its centre: the midplane's anchor */
   int any_extinction;
 };
-
-/* Sunlight reaching a point through the air (Riley eq. 12 with the view's air mass), tabulated
- * over the altitudes (sl_sky_altitude: above the plane z = 0, or above the sphere with
- * `--curvature drop`) the box spans, once per frame, so the eye pass only interpolates. */
-#define SUN_TABLE_SIZE 257
-typedef struct sun_table {
-  int nwl;
-  const sl_atmosphere *atm; /* whose ground the altitudes are above; NULL: no air, one value */
-  double z0, dz;            /* altitude of row 0, altitude step */
-  double rgb[SUN_TABLE_SIZE][SL_MAX_WAVELENGTHS];
-} sun_table;
-
-void sl__sun_table_init(sun_table *t, const sl_scene *sc, const sl_sky_view *view, const double lo[3],
-                        const double hi[3]);
-/* The sun table's row and the fraction past it at world point x's altitude, with no branch: round
- * (whether the ground is round, of radius R) and inv_dz (rows per metre, 0 for one row) are the
- * caller's invariants (sl__sun_table_lane), so that the eye pass's loop over a batch vectorises. */
-typedef struct sl__sun_lane {
-  int round;
-  double R, inv_dz;
-} sl__sun_lane;
-
-static inline sl__sun_lane sl__sun_table_lane(const sun_table *t)
-{
-  sl__sun_lane s;
-  s.round = t->atm && t->atm->ground_radius > 0.0;
-  s.R = s.round ? t->atm->ground_radius : 0.0;
-  s.inv_dz = t->dz > 0.0 ? 1.0 / t->dz : 0.0;
-  return s;
-}
-
-static inline __attribute__((always_inline)) void sl__sun_row(const sun_table *t, const sl__sun_lane *s,
-                                                              const double x[3], int *row, double *frac)
-{
-  const double z = s->round ? sl_sky_altitude_round(s->R, x) : x[2];
-  double u = (z - t->z0) * s->inv_dz;
-  u = u < 0.0 ? 0.0 : u > SUN_TABLE_SIZE - 1 ? SUN_TABLE_SIZE - 1 : u;
-  int i = (int)u;
-  i = i < SUN_TABLE_SIZE - 2 ? i : SUN_TABLE_SIZE - 2;
-  *row = i, *frac = u - i;
-}
-
-/* The table's sunlight at wavelength c, a fraction frac past row (sl__sun_row); rgb is the table's
- * first value, flat (rows SL_MAX_WAVELENGTHS apart), so that a loop over samples gathers from it. */
-static inline __attribute__((always_inline)) double sl__sun_lerp(const double *rgb, int row, double frac, int c)
-{
-  const ptrdiff_t i = (ptrdiff_t)row * SL_MAX_WAVELENGTHS + c;
-  return rgb[i] + frac * (rgb[i + SL_MAX_WAVELENGTHS] - rgb[i]);
-}
-
-/* The sunlight at world point x: the table at x's altitude (s: sl__sun_table_lane(t)). */
-static inline __attribute__((always_inline)) void sl__sun_at(const sun_table *t, const sl__sun_lane *s,
-                                                             const double x[3], double *out)
-{
-  int i;
-  double f;
-  sl__sun_row(t, s, x, &i, &f);
-  for (int c = 0; c < t->nwl; ++c) out[c] = sl__sun_lerp(&t->rgb[0][0], i, f, c);
-}
 
 /* The larger and the smaller of two finite numbers, inline: without -ffinite-math-only GCC calls
  * libm's fmax and fmin (through the PLT), which the eye pass did five times per sample. A NaN
@@ -188,6 +130,10 @@ static inline int sl__brick_radius(const sl_renderer *r, const int i0[3])
 
 static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { return sl__brick_radius(r, i0) == 0; }
 
+/* The brick occupancy of r->beta inside the content box and each empty brick's radius
+ * (r->bricks, r->empty_radius; empty_space.c). */
+int sl__bricks_build(sl_renderer *r, sl_error *err);
+
 /* Chebyshev distance transform of a brick lattice, in place: on entry radius[b] is 0 for an
  * occupied brick and non-zero for an empty one; on return each empty brick holds its distance to
  * the nearest occupied brick, max over the axes of |b - o|, capped at 255 (255 also where no brick
@@ -195,7 +141,7 @@ static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { re
 void sl__brick_empty_radius(const int n[3], unsigned char *radius);
 
 /* The part [*first, *last] of the stretch [t0, t1] of the ray o + t d that crosses occupied
- * bricks; *first > *last when it crosses none (renderer.c). */
+ * bricks; *first > *last when it crosses none (empty_space.c). */
 void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
                        double *first, double *last);
 
@@ -268,7 +214,7 @@ static inline __attribute__((always_inline)) sl__v4f sl__trilinear_v4f(const flo
 
 /* A field look-up in two steps, so that a pass can find a batch of samples' cells (and prefetch
  * them) before it loads any: the loads of a batch then overlap instead of each waiting on memory
- * in turn (at 256^3 the light pass waits on these loads; docs/PERFORMANCE.md, session 6). */
+ * in turn (at 256^3 the light pass waits on these loads). */
 typedef struct sl__field_cell {
   const float *c; /* the cell's lowest corner in the interleaved field array */
   float f[3];     /* the fractions within it */
@@ -405,6 +351,10 @@ void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const doub
 
 /* The light-volume march's samples per grid cell (sl_scene.march_samples, 0 meaning 2). */
 static inline int sl__march_samples(const sl_scene *sc) { return sc->march_samples > 0 ? sc->march_samples : 2; }
+
+/* A frame of the half-angle slicer (slicer.c); fwd, right, up: the camera's basis. */
+int sl__render_slicer(sl_renderer *r, const sl_camera *cam, const double fwd[3], const double right[3],
+                      const double up[3], sl_image *img, sl_render_stats *stats, sl_error *err);
 
 /* The eye pass of the cached light volume (light_volume.c). */
 int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_render_stats *stats,
