@@ -1,5 +1,8 @@
 #include "cli.h"
 
+#include "scene.h"
+#include "sl_scene_build.h"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -260,101 +263,20 @@ void Progress::done()
   std::fprintf(stderr, "  %.1f s\n", now_seconds() - start_);
 }
 
-void declare_load_options(Options &o)
-{
-  o.option("field", "TYPE=VAR,...", "feed particle TYPE (cloud, rain, ice, snow, graupel, hail) from file variable VAR\n"
-           "instead of the scheme's mapping (VAR 'none': leave TYPE out; CM1 run with ihail=1: hail=qg); see docs/DATA.md");
-  o.option("particles", "sizes|representative", "sizes: each cell's effective radius from the scheme's size distribution\n"
-           "and number concentration scales its extinction and picks its cloud and rain phase functions;\n"
-           "representative: one particle per type (Riley et al. 2004)",
-           "sizes");
-  o.option("max-fields", "N", "particle fields the renderer carries per sample, 1..8 (--gpu: at most 4); cloud and rain\n"
-           "take tables at a few effective radii in what the species leave: fewer fields, fewer tables, faster\n"
-           "samples (docs/DATA.md, \"Optics at each cell's size\")", "8");
-  o.option("droplet-number", "CM3", "cloud droplets per cm^3 where the file writes no droplet number (CM1's namelist\n"
-           "ndcnst; default: the scheme's, Morrison 250, Thompson 100)");
-  o.option("region", "LAT0,LAT1,LON0,LON1", "read only the grid columns inside these latitudes/longitudes (WRF)");
-  o.option("levels", "K0:K1", "read only model levels K0..K1 (0-based, inclusive)");
-  o.option("stride", "N", "read every N-th column in x and y", "1");
-  o.option("max-memory", "BYTES", "refuse a load whose estimate exceeds this (e.g. 8G; default: the memory available)");
-}
-
-bool parse_bytes(const std::string &text, double *bytes)
-{
-  char *end = nullptr;
-  errno = 0;
-  double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || errno != 0 || end == text.c_str() || !std::isfinite(v) || v <= 0) return false;
-  const std::string unit = end;
-  const char *units[] = {"", "K", "M", "G", "T"};
-  for (int i = 0; i < 5; ++i)
-    if (unit == units[i] || (i > 0 && (unit == std::string(units[i]) + "B" || unit == std::string(units[i]) + "iB"))) {
-      *bytes = v * std::pow(1024.0, i);
-      return true;
-    }
-  return false;
-}
-
 bool parse_load_options(Options &o, LoadOptions *out, std::string *error)
 {
-  sl_load_options &lo = out->load;
-  long stride;
-  if (!o.integer("stride", &stride, 1, 100000)) return *error = o.error(), false;
-  lo.stride = (int)stride;
-  if (o.has("field")) {
-    std::stringstream ss(o.str("field"));
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      const size_t eq = item.find('=');
-      const int type = eq == std::string::npos ? -1 : sl_particle_from_name(item.substr(0, eq).c_str());
-      if (type < 0 || eq + 1 >= item.size()) {
-        *error = "--field: '" + item + "' is not TYPE=VARIABLE with TYPE one of cloud, rain, ice, snow, graupel, hail";
-        return false;
-      }
-      out->fields[type] = item.substr(eq + 1);
-      lo.field_variable[type] = out->fields[type].c_str();
+  // The load options through the one option table's parser (scene/settings.c).
+  sl_settings *s = new sl_settings;
+  const bool ok = settings_from_options(o, "", s, error);
+  if (ok) {
+    sl_settings_load_options(s, 0, &out->load);
+    for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
+      out->fields[t] = s->field_variable[t];
+      out->load.field_variable[t] = out->fields[t].empty() ? nullptr : out->fields[t].c_str();
     }
   }
-  const std::string particles = o.str("particles");
-  if (particles != "sizes" && particles != "representative") {
-    *error = "--particles: '" + particles + "' is neither 'sizes' nor 'representative'";
-    return false;
-  }
-  lo.representative_particles = particles == "representative";
-  long max_fields;
-  if (!o.integer("max-fields", &max_fields, 1, SL_VOLUME_MAX_FIELDS)) return *error = o.error(), false;
-  lo.max_fields = (int)max_fields;
-  if (o.has("droplet-number")) {
-    double n;
-    if (!o.number("droplet-number", &n)) return *error = o.error(), false;
-    if (!(n > 0.0 && n <= 1e5)) return *error = "--droplet-number: " + o.str("droplet-number") + " is not 0..1e5 per cm^3", false;
-    lo.droplet_number_m3 = n * 1e6;
-  }
-  if (o.has("region")) {
-    std::vector<double> r;
-    if (!o.list("region", &r)) return *error = o.error(), false;
-    if (r.size() != 4 || !(r[0] < r[1]) || r[0] < -90 || r[1] > 90 || r[2] < -360 || r[3] > 360) {
-      *error = "--region needs LAT0,LAT1,LON0,LON1 in degrees with LAT0 < LAT1";
-      return false;
-    }
-    lo.has_region = 1;
-    for (int i = 0; i < 4; ++i) lo.region[i] = r[i];
-  }
-  if (o.has("levels")) {
-    int k0, k1;
-    char tail;
-    if (std::sscanf(o.str("levels").c_str(), "%d:%d%c", &k0, &k1, &tail) != 2 || k0 < 0 || k1 < k0) {
-      *error = "--levels needs K0:K1 with 0 <= K0 <= K1";
-      return false;
-    }
-    lo.level_first = k0;
-    lo.level_count = k1 - k0 + 1;
-  }
-  if (o.has("max-memory") && !parse_bytes(o.str("max-memory"), &lo.max_memory)) {
-    *error = "--max-memory: '" + o.str("max-memory") + "' is not a size such as 8G, 512M or 1e9";
-    return false;
-  }
-  return true;
+  delete s;
+  return ok;
 }
 
 }  // namespace sl

@@ -88,7 +88,5 @@ void declare_load_options(Options &o);
 // Fills *out from the declared options (time and dz are left to the caller); false with the
 // one-line error in *error for a malformed value.
 bool parse_load_options(Options &o, LoadOptions *out, std::string *error);
-// "8G", "512M", "1.5e9": bytes; false when it does not parse.
-bool parse_bytes(const std::string &text, double *bytes);
 
 }  // namespace sl

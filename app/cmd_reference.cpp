@@ -313,31 +313,20 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
   s->have_frame = true;
   rs.have_frame = false;
   s->sun_zenith = 90.0 - rs.sun_elevation_deg, s->sun_azimuth = rs.sun_azimuth_deg;
-  sl_optics_request req;
-  sl_optics_request_defaults(&req);
-  sl_optics_request_fields(&req, &s->frame.volume);
-  if (sl_optics_request_wavelengths(&req, rs.spectral ? "spectral16" : "rgb", err)) throw SceneError{err->message};
   sl::Progress progress("tables", !quiet);
-  req.progress = progress_hook;
-  req.progress_user = &progress;
-  s->optics.reset(sl_optics_build(&req, err));
+  s->optics.reset(sl_scene_tables(&s->frame.volume, rs.spectral, 0, progress_hook, &progress, err));
   progress.done();
   if (!s->optics) throw SceneError{std::string("particle tables: ") + err->message};
   s->medium = sl_ref_medium_from_volume(&s->frame.volume, s->optics.get(), err);
   if (!s->medium) throw SceneError{err->message};
   s->with_air = rs.with_air;
-  if (s->with_air) {
-    std::vector<double> nm(sl_ref_medium_wavelength_count(s->medium));
-    for (size_t w = 0; w < nm.size(); ++w) nm[w] = sl_ref_medium_wavelength(s->medium, (int)w);
-    if (sl_atmosphere_init(&s->atmosphere, nm.data(), (int)nm.size(), rs.flat_earth ? SL_EARTH_FLAT : SL_EARTH_ROUND,
-                           SL_RAYLEIGH_BODHAINE1999, err))
-      throw SceneError{err->message};
-  } else {
+  // The air as render's (sl_scene_air): its air mass, and the round ground under --curvature drop.
+  if (s->with_air && sl_scene_air(&rs.settings, rs.spectral, &s->atmosphere, err)) throw SceneError{err->message};
+  if (!s->with_air)
     for (int c = 0; c < 3; ++c) s->sky[c] = rs.sky[c];
-  }
   double lo[3], hi[3];
   sl_ref_medium_content_bounds(s->medium, lo, hi);
-  if (!sl::render_scene_camera(&rs, lo, hi, &s->camera, &why)) throw SceneError{why};
+  sl_scene_camera(&rs.settings, lo, hi, &s->camera);
   s->have_camera = true;
   s->kind = "storm";
 }

@@ -168,9 +168,7 @@ static int render_main(int argc, char **argv)
   sl_camera cam{};
   double lo_box[3], hi_box[3];
   sl_renderer_content_bounds(r, lo_box, hi_box);
-  sl_camera_frame(lo_box, hi_box, view_az, view_el, fov, (int)width, (int)height, &cam);
-  if (o.has("camera-target") && !o.vec3("camera-target", cam.target)) return sl::fail(cmd, o.error(), 2);
-  if (o.has("camera-position") && !o.vec3("camera-position", cam.position)) return sl::fail(cmd, o.error(), 2);
+  sl_scene_camera(&session.settings, lo_box, hi_box, &cam);
   // The scene around the storm: terrain (stops the eye rays, shadowed by the storm) and map layers.
   sl::MapLayers map_layers;
   std::unique_ptr<sl::TerrainScene> terrain;

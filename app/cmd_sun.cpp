@@ -15,68 +15,10 @@
 // zone means UTC) into a UTC date-time. Shared with cmd_sky.cpp through the declaration there.
 bool sl_parse_iso8601_utc(const std::string &text, sl_utc *out, std::string *why)
 {
-  int y, mo, d, h, mi, used = 0;
-  char sep;
-  if (std::sscanf(text.c_str(), "%4d-%2d-%2d%c%2d:%2d%n", &y, &mo, &d, &sep, &h, &mi, &used) != 6 ||
-      (sep != 'T' && sep != ' ')) {
-    *why = "'" + text + "' is not an ISO 8601 date-time like 2024-06-21T05:30:00Z";
-    return false;
-  }
-  const char *p = text.c_str() + used;
-  double second = 0.0;
-  if (*p == ':') {
-    char *end = nullptr;
-    second = std::strtod(p + 1, &end);
-    if (end == p + 1 || !(second >= 0.0 && second < 61.0)) {
-      *why = "'" + text + "': bad seconds";
-      return false;
-    }
-    p = end;
-  }
-  int offset_min = 0;
-  if (*p == 'Z' && p[1] == '\0') {
-    p++;
-  } else if ((*p == '+' || *p == '-') && p[1]) {
-    int oh = 0, om = 0, n = 0;
-    if (std::sscanf(p + 1, "%2d:%2d%n", &oh, &om, &n) != 2 || p[1 + n] != '\0' || oh > 23 || om > 59) {
-      *why = "'" + text + "': bad time zone offset (use Z, +hh:mm or -hh:mm)";
-      return false;
-    }
-    offset_min = (*p == '-' ? -1 : 1) * (oh * 60 + om);
-    p += 1 + n;
-  }
-  if (*p != '\0') {
-    *why = "'" + text + "': unexpected '" + std::string(p) + "'";
-    return false;
-  }
-  static const int kDays[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
-  if (mo < 1 || mo > 12 || d < 1 || d > kDays[mo - 1] || (mo == 2 && d == 29 && !leap) || h < 0 || h > 23 ||
-      mi < 0 || mi > 59) {
-    *why = "'" + text + "': field out of range";
-    return false;
-  }
-  // Local time minus the offset, normalised through the C library (UTC, no time zone rules).
-  std::tm tm{};
-  tm.tm_year = y - 1900;
-  tm.tm_mon = mo - 1;
-  tm.tm_mday = d;
-  tm.tm_hour = h;
-  tm.tm_min = mi - offset_min;
-  tm.tm_sec = 0;
-  const time_t t = timegm(&tm);
-  std::tm utc{};
-  if (t == (time_t)-1 || !gmtime_r(&t, &utc)) {
-    *why = "'" + text + "': date out of range";
-    return false;
-  }
-  out->year = utc.tm_year + 1900;
-  out->month = utc.tm_mon + 1;
-  out->day = utc.tm_mday;
-  out->hour = utc.tm_hour;
-  out->minute = utc.tm_min;
-  out->second = second;
-  return true;
+  sl_error err{};
+  if (sl_utc_parse_iso8601(text.c_str(), out, &err) == SL_OK) return true;
+  *why = err.message;
+  return false;
 }
 
 int sl_cmd_sun(int argc, char **argv)

@@ -375,66 +375,43 @@ int sl_cmd_validate(int argc, char **argv)
   sl::RenderScene rs;
   if (!sl::load_render_scene(scene_path, overrides, &rs, &why)) return sl::fail(kCmd, why, 2);
   if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) return sl::fail(kCmd, dir + ": cannot create the folder", 2);
-  sl::Options &so = rs.options;
-  Setting base;
+  Setting base;  // the scene's own setting
   base.family = "scene";
-  {
-    long slices, light_res;
-    if (!so.integer("slices", &slices, 0, 16384) || !so.integer("light-resolution", &light_res, 0, 8192) ||
-        !so.number("xi", &base.xi))
-      return sl::fail(kCmd, scene_path + ": " + so.error(), 2);
-    base.slices = (int)slices, base.light_resolution = (int)light_res;
-    const std::string l = so.str("lighting");
-    base.lighting = l == "eq25" ? SL_LIGHTING_MULTIPLE_EQ25 : l == "low-albedo" ? SL_LIGHTING_LOW_ALBEDO
-                                                                                : SL_LIGHTING_MULTIPLE;
-    base.spectral = rs.spectral;
-    base.light_volume = so.has("light-volume");
-  }
+  base.slices = rs.settings.slices, base.light_resolution = rs.settings.light_resolution, base.xi = rs.settings.xi;
+  base.lighting = (sl_lighting)rs.settings.lighting;
+  base.spectral = rs.settings.spectral;
+  base.light_volume = rs.settings.light_volume, base.march_samples = rs.settings.march_samples;
   sl_error err{};
   // Air and particle tables per wavelength set (and per highest order), built once; tables come
   // from the on-disk cache after the first run, so they are not part of any frame's time.
   sl_atmosphere air[2];
-  for (int sp = 0; sp < 2; ++sp) {
-    double nm[SL_SKY_SPECTRAL_COUNT];
-    sl_sky_spectral_wavelengths(nm);
-    if (rs.with_air && sl_atmosphere_init(&air[sp], sp ? nm : sl_sky_rgb_wavelengths_nm,
-                                          sp ? SL_SKY_SPECTRAL_COUNT : SL_SKY_RGB_COUNT,
-                                          rs.flat_earth ? SL_EARTH_FLAT : SL_EARTH_ROUND, SL_RAYLEIGH_BODHAINE1999, &err))
-      return sl::fail(kCmd, err.message);
-  }
+  for (int sp = 0; sp < 2; ++sp)
+    if (rs.with_air && sl_scene_air(&rs.settings, sp, &air[sp], &err)) return sl::fail(kCmd, err.message);
   std::map<std::pair<int, int>, TablesPtr> tables;
   auto tables_for = [&](bool spectral, int max_order) -> const sl_optics_tables * {
     const auto key = std::make_pair((int)spectral, max_order);
     auto it = tables.find(key);
     if (it != tables.end()) return it->second.get();
-    sl_optics_request req;
-    sl_optics_request_defaults(&req);
-    sl_optics_request_fields(&req, &rs.frame.volume);
-    if (sl_optics_request_wavelengths(&req, spectral ? "spectral16" : "rgb", &err)) return nullptr;
-    req.max_order = max_order;
     sl::Progress progress("tables", !quiet);
-    req.progress = progress_hook;
-    req.progress_user = &progress;
-    TablesPtr t(sl_optics_build(&req, &err), sl_optics_free);
+    TablesPtr t(sl_scene_tables(&rs.frame.volume, spectral, max_order, progress_hook, &progress, &err), sl_optics_free);
     progress.done();
     if (!t) return nullptr;
     return tables.emplace(key, std::move(t)).first->second.get();
   };
+  // Each setting's scene as render fills it (sl_scene_fill), from the scene's settings with the
+  // setting's changes.
   auto scene_for = [&](const Setting &s, sl_scene *sc) -> bool {
-    *sc = sl_scene{};
-    sc->volume = &rs.frame.volume;
-    sc->atmosphere = rs.with_air ? &air[s.spectral] : nullptr;
-    sc->optics = tables_for(s.spectral, s.max_order);
-    if (!sc->optics) return false;
-    sc->lighting = s.lighting, sc->xi = s.xi, sc->slices = s.slices, sc->light_resolution = s.light_resolution;
-    sc->light_volume = s.light_volume, sc->march_samples = s.march_samples;
-    sl_sun_direction(rs.sun_elevation_deg, rs.sun_azimuth_deg, sc->sun_direction);
-    for (int c = 0; c < SL_CHANNELS; ++c) sc->sun_irradiance[c] = 1.0, sc->sky_radiance[c] = rs.sky[c];
-    sc->termination_transparency = 1e-6;  // as stormlight render
+    const sl_optics_tables *optics = tables_for(s.spectral, s.max_order);
+    if (!optics) return false;
+    std::unique_ptr<sl_settings> v(new sl_settings(rs.settings));
+    v->lighting = s.lighting, v->xi = s.xi, v->slices = s.slices, v->light_resolution = s.light_resolution;
+    v->light_volume = s.light_volume, v->march_samples = s.march_samples, v->spectral = s.spectral;
+    sl_scene_fill(v.get(), &rs.built, rs.with_air ? &air[s.spectral] : nullptr, optics, sc);
     return true;
   };
 
-  // The camera as render frames it, from the baseline renderer's content bounds.
+  // The camera as render frames it, from the baseline renderer's content bounds, and what stops its
+  // rays: the round ground under --curvature drop, as render's.
   sl_scene base_scene;
   if (!scene_for(base, &base_scene)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
   sl_camera cam{};
@@ -444,7 +421,12 @@ int sl_cmd_validate(int argc, char **argv)
     double lo[3], hi[3];
     sl_renderer_content_bounds(r, lo, hi);
     sl_renderer_destroy(r);
-    if (!sl::render_scene_camera(&rs, lo, hi, &cam, &why)) return sl::fail(kCmd, scene_path + ": " + why, 2);
+    sl_scene_camera(&rs.settings, lo, hi, &cam);
+  }
+  std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
+  if (base_scene.atmosphere && base_scene.atmosphere->ground_radius > 0.0) {
+    sl_camera_ground_distance(&cam, base_scene.atmosphere, ground.data());
+    cam.opaque_distance = ground.data();
   }
   const size_t np = (size_t)cam.width * cam.height;
 
@@ -596,7 +578,19 @@ int sl_cmd_validate(int argc, char **argv)
       const double t0 = sl::now_seconds();
       sl_renderer *r = sl_renderer_create(&sc, &err);
       sl_render_stats stats{};
-      const int rc = r ? sl_renderer_render(r, &cam, &img, &stats, &err) : 1;
+      int rc = r ? sl_renderer_render(r, &cam, &img, &stats, &err) : 1;
+      // The scene's own frame as `stormlight render --cpu-composite` draws it: over the fast
+      // renderer's own sky (frame.exr).
+      if (!rc && rows.empty() && k == 0) {
+        sl_image own{}, composite{};
+        rc = sl_image_alloc(&own, cam.width, cam.height, &err) || sl_image_alloc(&composite, cam.width, cam.height, &err) ||
+             sl_renderer_background(r, &cam, &own, &err);
+        if (!rc) {
+          sl_image_over(&img, &own, &composite);
+          rc = sl_write_exr((dir + "/frame.exr").c_str(), &composite, SL_EXR_FLOAT, &err);
+        }
+        sl_image_free(&own), sl_image_free(&composite);
+      }
       sl_renderer_destroy(r);
       if (rc) return sl::fail(kCmd, scene_path + " (" + s.name + "): " + err.message);
       row.seconds = std::min(row.seconds, sl::now_seconds() - t0);

@@ -13,6 +13,7 @@
 #include "gpu_render.h"
 #include "sl_optics.h"
 #include "sl_renderer.h"
+#include "sl_scene_build.h"
 #include "sl_sky.h"
 #include "sl_storm.h"
 
@@ -27,10 +28,11 @@ class RenderSession {
   RenderSession(const RenderSession &) = delete;
   RenderSession &operator=(const RenderSession &) = delete;
 
-  // From render's parsed options (declare_render_options): loads `path` at --time with the load
-  // options, places the sun (--sun-azimuth/--sun-elevation, --date, or the file's own time over
-  // the grid's centre), builds the air, the tables and the renderer. False with one line; *exit
-  // is 2 for a usage error, 1 for a failure.
+  // From render's parsed options (declare_render_options), through their settings
+  // (settings_from_options) and sl_scene_build: loads `path` at --time with the load options,
+  // places the sun (--sun-azimuth/--sun-elevation, --date, or the file's own time over the grid's
+  // centre), builds the air, the tables and the renderer. False with one line; *exit is 2 for a
+  // usage error, 1 for a failure.
   bool prepare(const Options &o, const std::string &path, bool quiet, std::string *why, int *exit);
   // The volume is for the GPU pass (`view`; `render --gpu` says so by its flag): cloud and rain
   // size tables then share its four fields (sl_load_options.max_fields).
@@ -52,9 +54,11 @@ class RenderSession {
   bool composite(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
                  const TerrainScene *terrain);
 
-  sl_storm_frame frame{};
-  sl_scene scene{};  // the renderer's scene: volume, air, tables, sun, xi
-  sl_renderer *renderer = nullptr;
+  sl_settings settings{};  // what prepare read
+  sl_built_scene built{};  // the storm, its sun, the air, the tables, the scene and the renderer
+  sl_storm_frame &frame = built.frame;
+  sl_scene &scene = built.scene;  // the renderer's scene: volume, air, tables, sun, xi
+  sl_renderer *&renderer = built.renderer;
   double sun_elevation_deg = 0, sun_azimuth_deg = 0;  // compass
   std::string sun_note;                               // where the sun came from, when from a date
   double load_seconds = 0;
@@ -62,7 +66,6 @@ class RenderSession {
  private:
   struct Parts;
   std::unique_ptr<Parts> parts_;
-  bool have_frame_ = false;
 };
 
 // Writes a frame as render does: .exr linear HDR (half, or float) with the camera's matrices, the

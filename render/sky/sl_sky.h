@@ -174,6 +174,12 @@ typedef struct sl_utc {
   double second;
 } sl_utc;
 
+/* An ISO 8601 date-time ("2024-06-21T05:30:00Z", "2003-10-17 12:30:30-07:00"; no zone is UTC)
+ * into UTC; a one-line error quoting the text otherwise (utc.c). */
+int sl_utc_parse_iso8601(const char *text, sl_utc *out, sl_error *err);
+/* t moved by `seconds` (any sign), normalised into the calendar; fractions of a second kept. */
+int sl_utc_add_seconds(sl_utc *t, double seconds, sl_error *err);
+
 typedef struct sl_solar_options {
   double pressure_hpa;   /* for refraction; default 1010 */
   double temperature_c;  /* for refraction; default 10 */
