@@ -2,7 +2,6 @@
 // names a storm to render, a medium given directly (for fluxes or an image), or a point source in
 // an infinite medium; the path tracer in render/reference does the rest.
 #include <cjson/cJSON.h>
-#include <netcdf.h>
 #include <omp.h>
 
 #include <cmath>
@@ -109,30 +108,6 @@ void sun_angles(const cJSON *root, double *zenith_deg, double *azimuth_deg)
   if (*zenith_deg < 0 || *zenith_deg > 180) throw SceneError{"the sun's zenith angle must lie in [0, 180] degrees"};
 }
 
-// A 3-D float variable (z, y, x) of a NetCDF file: the extinction field of a medium.
-std::vector<float> read_netcdf_field(const std::string &path, const std::string &var, int n[3])
-{
-  int nc, id, ndims, dims[NC_MAX_VAR_DIMS];
-  if (nc_open(path.c_str(), NC_NOWRITE, &nc) != NC_NOERR) throw SceneError{path + ": cannot open as NetCDF"};
-  std::unique_ptr<int, void (*)(int *)> closer(&nc, [](int *h) { nc_close(*h); });
-  if (nc_inq_varid(nc, var.c_str(), &id) != NC_NOERR) throw SceneError{path + ": no variable '" + var + "'"};
-  if (nc_inq_varndims(nc, id, &ndims) != NC_NOERR || ndims != 3 || nc_inq_vardimid(nc, id, dims) != NC_NOERR)
-    throw SceneError{path + ": variable '" + var + "' must have 3 dimensions (z, y, x)"};
-  size_t len[3];
-  for (int a = 0; a < 3; ++a)
-    if (nc_inq_dimlen(nc, dims[a], &len[a]) != NC_NOERR) throw SceneError{path + ": unreadable dimensions"};
-  if (!(len[0] > 0 && len[1] > 0 && len[2] > 0) || (double)len[0] * len[1] * len[2] > 1e9)
-    throw SceneError{path + ": variable '" + var + "' has an empty or absurd shape " + std::to_string(len[0]) + "x" +
-                     std::to_string(len[1]) + "x" + std::to_string(len[2])};
-  n[0] = (int)len[2], n[1] = (int)len[1], n[2] = (int)len[0];
-  std::vector<float> v(len[0] * len[1] * len[2]);
-  if (nc_get_var_float(nc, id, v.data()) != NC_NOERR) throw SceneError{path + ": cannot read '" + var + "'"};
-  for (size_t i = 0; i < v.size(); ++i)
-    if (!(v[i] >= 0.0f) || !std::isfinite(v[i]))
-      throw SceneError{path + ": '" + var + "' is negative or not finite at element " + std::to_string(i)};
-  return v;
-}
-
 // Everything a scene file describes, owning what the C structures point to.
 struct Scene {
   std::string kind;  // storm, medium, point
@@ -197,7 +172,12 @@ void parse_medium(const cJSON *root, const std::string &path, Scene *s, sl_error
     for (int a = 0; a < 3; ++a) d.spacing[a] = size[a];
   } else if (cJSON_IsObject(ext)) {
     const std::string file = resolve(path, text(ext, "netcdf", ""));
-    s->extinction = read_netcdf_field(file, text(ext, "variable", "extinction"), d.n);
+    float *field = nullptr;
+    sl_error read_err{};
+    if (sl_read_field3d(file.c_str(), text(ext, "variable", "extinction").c_str(), d.n, &field, &read_err))
+      throw SceneError{read_err.message};
+    s->extinction.assign(field, field + (size_t)d.n[0] * d.n[1] * d.n[2]);
+    std::free(field);
     numbers(md, "spacing_m", 3, d.spacing, true);
     d.component[0].sigma[0] = number(ext, "scale", 1.0);
     d.component[0].density = s->extinction.data();

@@ -42,6 +42,7 @@
 #include "sl_renderer.h"
 #include "sl_sky.h"
 #include "sl_tempfile.h"
+#include "sl_validation.h"
 #include "vtk_png.h"
 
 namespace {
@@ -67,32 +68,10 @@ struct Setting {
   bool spectral = false, light_volume = false;
 };
 
-// Error of one pixel class against the reference. Sums over the class's pixels and R, G, B.
-struct ClassError {
-  long pixels = 0;
-  double d2 = 0, b2 = 0, d1 = 0, b1 = 0, d = 0, se2 = 0, se1 = 0;
-  void add(double a, double b, double se)
-  {
-    d2 += (a - b) * (a - b), b2 += b * b, d1 += std::fabs(a - b), b1 += std::fabs(b), d += a - b;
-    se2 += se * se, se1 += se;
-  }
-  // sqrt(sum (a-b)^2 / sum b^2)
-  double relative_rmse() const { return b2 > 0 ? std::sqrt(d2 / b2) : 0.0; }
-  // Radiance-weighted mean relative error, sum |a-b| / sum |b|.
-  double mean_relative() const { return b1 > 0 ? d1 / b1 : 0.0; }
-  double bias() const { return b1 > 0 ? d / b1 : 0.0; }
-  // What a perfect model would show against this reference: the reference's relative RMS standard
-  // error, and its expected contribution to the mean absolute error (sqrt(2/pi) se for Gaussian noise).
-  double noise_rmse() const { return b2 > 0 ? std::sqrt(se2 / b2) : 0.0; }
-  double noise_mean() const { return b1 > 0 ? std::sqrt(2.0 / M_PI) * se1 / b1 : 0.0; }
-  // The model's own error with the reference's noise taken out (squares subtract).
-  double model_rmse() const { return b2 > 0 ? std::sqrt(std::max(0.0, d2 - se2) / b2) : 0.0; }
-};
-
 struct Row {
   Setting s;
   double seconds = 0;
-  ClassError all, thin, dense;
+  sl_error_sums all{}, thin{}, dense{};  // per pixel class, over its pixels and R, G, B
   double mc_seconds = 0, speedup = 0;
   bool pareto = false;
 };
@@ -172,58 +151,13 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
   return v;
 }
 
-// An image averaged over b x b pixel blocks (a last partial row or column of blocks is dropped):
-// radiance and transparency are means, standard errors of the means combine in quadrature. Comparing
-// blocks buys the reference's noise down by b without more samples where the model's errors are
-// smoother than a pixel.
-struct Blocks {
-  int width = 0, height = 0;
-  std::vector<double> rgb, se, transparency;
+// Block means (sl_block_means) freed with their owner.
+struct Blocks : sl_blocks {
+  Blocks() : sl_blocks{} {}
+  Blocks(const Blocks &) = delete;
+  Blocks &operator=(const Blocks &) = delete;
+  ~Blocks() { sl_blocks_free(this); }
 };
-
-Blocks block_means(const sl_image &img, const float *se, int b)
-{
-  Blocks out;
-  out.width = img.width / b, out.height = img.height / b;
-  const size_t n = (size_t)out.width * out.height;
-  out.rgb.assign(3 * n, 0.0), out.se.assign(3 * n, 0.0), out.transparency.assign(n, 0.0);
-  const double inv = 1.0 / ((double)b * b);
-  for (int by = 0; by < out.height; ++by)
-    for (int bx = 0; bx < out.width; ++bx) {
-      const size_t k = (size_t)by * out.width + bx;
-      for (int y = by * b; y < (by + 1) * b; ++y)
-        for (int x = bx * b; x < (bx + 1) * b; ++x) {
-          const size_t q = (size_t)y * img.width + x;
-          for (int c = 0; c < 3; ++c) {
-            out.rgb[3 * k + c] += inv * img.rgba[4 * q + c];
-            if (se) out.se[3 * k + c] += inv * inv * (double)se[3 * q + c] * se[3 * q + c];
-          }
-          out.transparency[k] += inv * img.transparency[q];
-        }
-      for (int c = 0; c < 3; ++c) out.se[3 * k + c] = std::sqrt(out.se[3 * k + c]);
-    }
-  return out;
-}
-
-// Signed relative error of the pixel's R+G+B, blue (model too dark) through white to red (too
-// bright), saturating at +-range; pixels outside the volume dark grey.
-void error_map(const Blocks &a, const Blocks &b, const std::vector<unsigned char> &cls, double floor, double range,
-               std::vector<unsigned char> *rgb)
-{
-  const size_t n = (size_t)a.width * a.height;
-  rgb->assign(3 * n, 40);
-  for (size_t q = 0; q < n; ++q) {
-    if (!cls[q]) continue;
-    double sa = 0, sb = 0;
-    for (int c = 0; c < 3; ++c) sa += a.rgb[3 * q + c], sb += b.rgb[3 * q + c];
-    const double e = std::max(-1.0, std::min(1.0, (sa - sb) / std::max(sb, floor) / range));
-    const double w = 1.0 - std::fabs(e);
-    unsigned char *p = &(*rgb)[3 * q];
-    p[0] = (unsigned char)std::lround(255 * (e > 0 ? 1.0 : w));
-    p[1] = (unsigned char)std::lround(255 * w);
-    p[2] = (unsigned char)std::lround(255 * (e < 0 ? 1.0 : w));
-  }
-}
 
 std::string file_name(const std::string &name)
 {
@@ -235,16 +169,16 @@ std::string file_name(const std::string &name)
   return f;
 }
 
-cJSON *class_json(const ClassError &e)
+cJSON *class_json(const sl_error_sums &e)
 {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "pixels", (double)e.pixels);
-  cJSON_AddNumberToObject(o, "relative_rmse", e.relative_rmse());
-  cJSON_AddNumberToObject(o, "mean_relative_error", e.mean_relative());
-  cJSON_AddNumberToObject(o, "bias", e.bias());
-  cJSON_AddNumberToObject(o, "reference_noise_rmse", e.noise_rmse());
-  cJSON_AddNumberToObject(o, "reference_noise_mean", e.noise_mean());
-  cJSON_AddNumberToObject(o, "model_rmse", e.model_rmse());
+  cJSON_AddNumberToObject(o, "relative_rmse", sl_error_relative_rmse(&e));
+  cJSON_AddNumberToObject(o, "mean_relative_error", sl_error_mean_relative(&e));
+  cJSON_AddNumberToObject(o, "bias", sl_error_bias(&e));
+  cJSON_AddNumberToObject(o, "reference_noise_rmse", sl_error_noise_rmse(&e));
+  cJSON_AddNumberToObject(o, "reference_noise_mean", sl_error_noise_mean(&e));
+  cJSON_AddNumberToObject(o, "model_rmse", sl_error_model_rmse(&e));
   return o;
 }
 
@@ -295,14 +229,14 @@ bool plot(const std::vector<Row> &rows, const Reference &ref, double ref_noise, 
     std::vector<double> x, y;
     for (const Row &r : rows)
       if (r.s.family == families[f]) {
-        x.push_back(r.seconds), y.push_back(std::max(r.all.relative_rmse(), 1e-4));
+        x.push_back(r.seconds), y.push_back(std::max(sl_error_relative_rmse(&r.all), 1e-4));
         tmin = std::min(tmin, r.seconds), tmax = std::max(tmax, r.seconds);
       }
     series(x, y, families[f], vtkChart::POINTS, palette[(f + 1) % 10], 1.0f);
   }
   std::vector<std::pair<double, double>> front;
   for (const Row &r : rows)
-    if (r.pareto) front.emplace_back(r.seconds, std::max(r.all.relative_rmse(), 1e-4));
+    if (r.pareto) front.emplace_back(r.seconds, std::max(sl_error_relative_rmse(&r.all), 1e-4));
   std::sort(front.begin(), front.end());
   std::vector<double> px, py;
   for (const auto &p : front) px.push_back(p.first), py.push_back(p.second);
@@ -563,7 +497,8 @@ int sl_cmd_validate(int argc, char **argv)
   if (sl_write_png((dir + "/reference.png").c_str(), &frame, 12.0f, &err)) return sl::fail(kCmd, err.message);
 
   if (cam.width < block || cam.height < block) return sl::fail(kCmd, "--block is larger than the image", 2);
-  const Blocks ref_blocks = block_means(ref.layer, ref.se.data(), (int)block);
+  Blocks ref_blocks;
+  if (sl_block_means(&ref.layer, ref.se.data(), (int)block, &ref_blocks, &err)) return sl::fail(kCmd, err.message);
   const size_t nb = (size_t)ref_blocks.width * ref_blocks.height;
   std::vector<Row> rows;
   std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
@@ -595,7 +530,8 @@ int sl_cmd_validate(int argc, char **argv)
       if (rc) return sl::fail(kCmd, scene_path + " (" + s.name + "): " + err.message);
       row.seconds = std::min(row.seconds, sl::now_seconds() - t0);
     }
-    const Blocks fast = block_means(img, nullptr, (int)block);
+    Blocks fast;
+    if (sl_block_means(&img, nullptr, (int)block, &fast, &err)) return sl::fail(kCmd, err.message);
     if (cls.empty()) {
       cls.resize(nb);
       double sum = 0;
@@ -613,26 +549,26 @@ int sl_cmd_validate(int argc, char **argv)
       if (!cls[q]) continue;
       for (int c = 0; c < 3; ++c) {
         const double a = fast.rgb[3 * q + c], b = ref_blocks.rgb[3 * q + c], se = ref_blocks.se[3 * q + c];
-        row.all.add(a, b, se);
-        (cls[q] == 1 ? row.thin : row.dense).add(a, b, se);
+        sl_error_sums_add(&row.all, a, b, se);
+        sl_error_sums_add(cls[q] == 1 ? &row.thin : &row.dense, a, b, se);
       }
       ++row.all.pixels, ++(cls[q] == 1 ? row.thin : row.dense).pixels;
     }
-    std::vector<unsigned char> map;
-    error_map(fast, ref_blocks, cls, floor, 0.5, &map);
+    std::vector<unsigned char> map(3 * (size_t)fast.width * fast.height);
+    sl_error_map(&fast, &ref_blocks, cls.data(), floor, 0.5, map.data());
     if (sl_write_png_rgb8((dir + "/error_" + file_name(s.name) + ".png").c_str(), fast.width, fast.height, map.data(),
                           &err))
       return sl::fail(kCmd, err.message);
     if (!quiet)
       std::fprintf(stderr, "%-30s %8.4f s  relative RMSE %.4f (thin %.4f, dense %.4f)\n", s.name.c_str(), row.seconds,
-                   row.all.relative_rmse(), row.thin.relative_rmse(), row.dense.relative_rmse());
+                   sl_error_relative_rmse(&row.all), sl_error_relative_rmse(&row.thin), sl_error_relative_rmse(&row.dense));
     rows.push_back(row);
   }
   if (rows.empty() || rows[0].all.pixels == 0) return sl::fail(kCmd, scene_path + ": no pixel of the frame sees the volume", 2);
 
   // Equal error: the reference's relative noise falls as 1/sqrt(spp) (its variance estimate), so
   // Monte Carlo needs T_ref (noise / e)^2 to reach a measured error e.
-  const double noise = rows[0].all.noise_rmse();
+  const double noise = sl_error_noise_rmse(&rows[0].all);
   // How concentrated the reference's noise is: the share of its variance (sum of se^2 over the
   // volume's blocks) that its noisiest block carries. Near 1, a single firefly dominates the RMSE
   // measures and the mean relative error is the one to read (docs/ACCURACY.md).
@@ -647,25 +583,26 @@ int sl_cmd_validate(int argc, char **argv)
     }
     worst_share = total > 0 ? worst / total : 0;
   }
-  for (Row &r : rows) {
-    const double e = r.all.relative_rmse();
-    r.mc_seconds = e > 0 ? ref.seconds * (noise / e) * (noise / e) : INFINITY;
-    r.speedup = r.mc_seconds / r.seconds;
-    r.pareto = true;
-    for (const Row &q : rows)
-      if ((q.seconds <= r.seconds && q.all.relative_rmse() < r.all.relative_rmse()) ||
-          (q.seconds < r.seconds && q.all.relative_rmse() <= r.all.relative_rmse()))
-        r.pareto = false;
+  {
+    std::vector<double> seconds, errors;
+    for (const Row &r : rows) seconds.push_back(r.seconds), errors.push_back(sl_error_relative_rmse(&r.all));
+    std::vector<unsigned char> front(rows.size());
+    sl_pareto_front((int)rows.size(), seconds.data(), errors.data(), front.data());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      rows[i].mc_seconds = sl_equal_error_seconds(ref.seconds, noise, errors[i]);
+      rows[i].speedup = rows[i].mc_seconds / rows[i].seconds;
+      rows[i].pareto = front[i];
+    }
   }
   std::sort(rows.begin() + 1, rows.end(), [](const Row &a, const Row &b) {
     return a.s.family != b.s.family ? a.s.family < b.s.family : a.seconds < b.seconds;
   });
   const Row *best_interactive = nullptr, *best_xi = nullptr;
   for (const Row &r : rows) {
-    if (r.seconds <= interactive && (!best_interactive || r.all.relative_rmse() < best_interactive->all.relative_rmse()))
+    if (r.seconds <= interactive && (!best_interactive || sl_error_relative_rmse(&r.all) < sl_error_relative_rmse(&best_interactive->all)))
       best_interactive = &r;
     const bool xi_only = (r.s.family == "xi" || r.s.family == "scene");
-    if (xi_only && (!best_xi || r.all.relative_rmse() < best_xi->all.relative_rmse())) best_xi = &r;
+    if (xi_only && (!best_xi || sl_error_relative_rmse(&r.all) < sl_error_relative_rmse(&best_xi->all))) best_xi = &r;
   }
 
   // The report: JSON, a Markdown table, the chart.
@@ -684,8 +621,8 @@ int sl_cmd_validate(int argc, char **argv)
   cJSON_AddNumberToObject(jr, "threads", ref.threads);
   cJSON_AddStringToObject(jr, "wavelengths", ref.wavelengths.c_str());
   cJSON_AddNumberToObject(jr, "noise", noise);
-  cJSON_AddNumberToObject(jr, "noise_thin", rows[0].thin.noise_rmse());
-  cJSON_AddNumberToObject(jr, "noise_dense", rows[0].dense.noise_rmse());
+  cJSON_AddNumberToObject(jr, "noise_thin", sl_error_noise_rmse(&rows[0].thin));
+  cJSON_AddNumberToObject(jr, "noise_dense", sl_error_noise_rmse(&rows[0].dense));
   cJSON_AddNumberToObject(jr, "noise_worst_block_share", worst_share);
   cJSON_AddStringToObject(jr, "equal_error_model",
                           "Monte Carlo seconds to reach error e = seconds * (noise / e)^2: the variance estimate, "
@@ -716,20 +653,20 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddStringToObject(j, "error_map", ("error_" + file_name(r.s.name) + ".png").c_str());
     cJSON_AddItemToArray(jrows, j);
     // A class without pixels has no error: a dash, not a zero.
-    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
-    md += "| " + r.s.name + " | " + fmt("%.3g", r.seconds) + " | " + fmt("%.3f", r.all.relative_rmse()) + " | " +
-          cell(r.thin, r.thin.relative_rmse()) + " | " + cell(r.dense, r.dense.relative_rmse()) + " | " +
-          fmt("%.3f", r.all.mean_relative()) + " | " + cell(r.thin, r.thin.mean_relative()) + " | " +
-          cell(r.dense, r.dense.mean_relative()) + " | " + fmt("%+.3f", r.all.bias()) + " | " + fmt("%.3g", r.mc_seconds) +
+    const auto cell = [](const sl_error_sums &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
+    md += "| " + r.s.name + " | " + fmt("%.3g", r.seconds) + " | " + fmt("%.3f", sl_error_relative_rmse(&r.all)) + " | " +
+          cell(r.thin, sl_error_relative_rmse(&r.thin)) + " | " + cell(r.dense, sl_error_relative_rmse(&r.dense)) + " | " +
+          fmt("%.3f", sl_error_mean_relative(&r.all)) + " | " + cell(r.thin, sl_error_mean_relative(&r.thin)) + " | " +
+          cell(r.dense, sl_error_mean_relative(&r.dense)) + " | " + fmt("%+.3f", sl_error_bias(&r.all)) + " | " + fmt("%.3g", r.mc_seconds) +
           " | " + fmt("%.3g", r.speedup) + " | " + (r.pareto ? "yes" : "") + " |\n";
   }
   {
     const Row &r = rows[0];
-    const auto cell = [](const ClassError &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
+    const auto cell = [](const sl_error_sums &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
     md += "| *reference noise* | " + fmt("%.3g", ref.seconds) + " | " + fmt("%.3f", noise) + " | " +
-          cell(r.thin, r.thin.noise_rmse()) + " | " + cell(r.dense, r.dense.noise_rmse()) + " | " +
-          fmt("%.3f", r.all.noise_mean()) + " | " + cell(r.thin, r.thin.noise_mean()) + " | " +
-          cell(r.dense, r.dense.noise_mean()) + " | | | | |\n";
+          cell(r.thin, sl_error_noise_rmse(&r.thin)) + " | " + cell(r.dense, sl_error_noise_rmse(&r.dense)) + " | " +
+          fmt("%.3f", sl_error_noise_mean(&r.all)) + " | " + cell(r.thin, sl_error_noise_mean(&r.thin)) + " | " +
+          cell(r.dense, sl_error_noise_mean(&r.dense)) + " | | | | |\n";
   }
   char head[640];
   std::snprintf(head, sizeof head,
@@ -742,17 +679,17 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON *b = cJSON_AddObjectToObject(root, "best_interactive");
     cJSON_AddStringToObject(b, "name", best_interactive->s.name.c_str());
     cJSON_AddNumberToObject(b, "seconds", best_interactive->seconds);
-    cJSON_AddNumberToObject(b, "relative_rmse", best_interactive->all.relative_rmse());
+    cJSON_AddNumberToObject(b, "relative_rmse", sl_error_relative_rmse(&best_interactive->all));
     cJSON_AddNumberToObject(b, "speedup", best_interactive->speedup);
     md += "\nBest setting at or under " + fmt("%g", interactive) + " s per frame: " + best_interactive->s.name + ", " +
-          fmt("%.3g", best_interactive->seconds) + " s, relative RMSE " + fmt("%.3f", best_interactive->all.relative_rmse()) +
+          fmt("%.3g", best_interactive->seconds) + " s, relative RMSE " + fmt("%.3f", sl_error_relative_rmse(&best_interactive->all)) +
           "; Monte Carlo needs " + fmt("%.3g", best_interactive->mc_seconds) + " s for the same error (speed-up " +
           fmt("%.3g", best_interactive->speedup) + ").\n";
   }
   if (best_xi) {
     cJSON_AddNumberToObject(root, "best_xi", best_xi->s.xi);
     md += "Lowest error over xi (other settings the scene's): xi " + fmt("%g", best_xi->s.xi) + ", relative RMSE " +
-          fmt("%.3f", best_xi->all.relative_rmse()) + ".\n";
+          fmt("%.3f", sl_error_relative_rmse(&best_xi->all)) + ".\n";
   }
   char *text = cJSON_Print(root);
   const std::string body = std::string(text) + "\n";
@@ -771,9 +708,9 @@ int sl_cmd_validate(int argc, char **argv)
   }
   if (!quiet) std::printf("%s", md.c_str());
   const Row &scene_row = *std::find_if(rows.begin(), rows.end(), [](const Row &r) { return r.s.family == "scene"; });
-  if (scene_row.all.relative_rmse() > max_error) {
+  if (sl_error_relative_rmse(&scene_row.all) > max_error) {
     std::fprintf(stderr, "stormlight validate: %s: relative RMSE %.4f of the scene's setting exceeds --max-error %g\n",
-                 scene_path.c_str(), scene_row.all.relative_rmse(), max_error);
+                 scene_path.c_str(), sl_error_relative_rmse(&scene_row.all), max_error);
     return 1;
   }
   return 0;

@@ -93,19 +93,6 @@ bool grid_centre(ViewState &s, std::string *why)
   return true;
 }
 
-// The date moved by `hours`, calendar-normalized.
-void add_hours(sl_utc *d, double hours)
-{
-  std::tm t{};
-  t.tm_year = d->year - 1900, t.tm_mon = d->month - 1, t.tm_mday = d->day;
-  t.tm_hour = d->hour, t.tm_min = d->minute, t.tm_sec = (int)d->second;
-  const time_t when = timegm(&t) + (time_t)std::lround(hours * 3600.0);
-  std::tm u{};
-  gmtime_r(&when, &u);
-  d->year = u.tm_year + 1900, d->month = u.tm_mon + 1, d->day = u.tm_mday;
-  d->hour = u.tm_hour, d->minute = u.tm_min, d->second = u.tm_sec;
-}
-
 std::string num(double v)
 {
   char b[40];
@@ -428,7 +415,7 @@ class Viewer {
     else if (k == "z") state.fov = std::max(2.0, state.fov / 1.1);
     else if (k == "Z") state.fov = std::min(120.0, state.fov * 1.1);
     else if ((k == "h" || k == "H" || k == "n" || k == "N") && state.have_date) {
-      add_hours(&state.date, (k == "h" ? -1 : k == "H" ? 1 : k == "n" ? -24 : 24));
+      sl_utc_add_seconds(&state.date, 3600.0 * (k == "h" ? -1 : k == "H" ? 1 : k == "n" ? -24 : 24), nullptr);
       std::string why;
       change = Change::Sun;
       if (!place_sun(state, &why)) std::fprintf(stderr, "view: %s\n", why.c_str()), redraw = false;

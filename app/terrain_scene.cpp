@@ -46,81 +46,31 @@ bool read_map_options(Options &o, MapLayers *m, std::string *error)
   return true;
 }
 
-// ---- ColumnMap ----
+// ---- ColumnMap: io/column_map.c and render/surface's triangles ----
 
 ColumnMap::ColumnMap(const sl_storm_frame &f)
-    : nx_(f.volume.nx), ny_(f.volume.ny), lat_(f.column_lat), lon_(f.column_lon), height_(f.terrain_height)
 {
-  for (int a = 0; a < 2; ++a) origin_[a] = f.volume.origin[a], spacing_[a] = f.volume.spacing[a];
-}
-
-void ColumnMap::lonlat(double fi, double fj, double *lon, double *lat) const
-{
-  // Bilinear in the cell (extrapolated linearly past the edges, for Newton's steps).
-  const int i = std::clamp((int)std::floor(fi), 0, nx_ - 2), j = std::clamp((int)std::floor(fj), 0, ny_ - 2);
-  const double u = fi - i, v = fj - j;
-  auto at = [&](const double *a, int ii, int jj) { return a[(size_t)jj * nx_ + ii]; };
-  auto bil = [&](const double *a) {
-    return (1 - u) * (1 - v) * at(a, i, j) + u * (1 - v) * at(a, i + 1, j) + (1 - u) * v * at(a, i, j + 1) +
-           u * v * at(a, i + 1, j + 1);
-  };
-  *lon = bil(lon_);
-  *lat = bil(lat_);
+  const double origin[2] = {f.volume.origin[0], f.volume.origin[1]};
+  const double spacing[2] = {f.volume.spacing[0], f.volume.spacing[1]};
+  sl_column_map_init(&map_, f.volume.nx, f.volume.ny, f.column_lat, f.column_lon, origin, spacing);
+  if (f.terrain_height) sl_heightfield_init(&terrain_, f.volume.nx, f.volume.ny, origin, spacing, f.terrain_height);
 }
 
 bool ColumnMap::to_grid(double lat, double lon, double *fi, double *fj) const
 {
-  if (!lat_ || !lon_ || nx_ < 2 || ny_ < 2) return false;
-  size_t best = 0;
-  double best_d = INFINITY;
-  for (size_t c = 0; c < (size_t)nx_ * ny_; ++c) {
-    const double dl = (lon_[c] - lon) * std::cos(lat * M_PI / 180.0), dp = lat_[c] - lat;
-    const double d = dl * dl + dp * dp;
-    if (d < best_d) best_d = d, best = c;
-  }
-  double x = (double)(best % nx_), y = (double)(best / nx_);
-  for (int it = 0; it < 20; ++it) {
-    double lo0, la0, lo1, la1, lo2, la2;
-    const double h = 1e-3;
-    lonlat(x, y, &lo0, &la0);
-    lonlat(x + h, y, &lo1, &la1);
-    lonlat(x, y + h, &lo2, &la2);
-    const double a = (lo1 - lo0) / h, b = (lo2 - lo0) / h, c = (la1 - la0) / h, d = (la2 - la0) / h;
-    const double det = a * d - b * c;
-    if (det == 0.0) return false;
-    const double r0 = lon - lo0, r1 = lat - la0;
-    const double dx = (d * r0 - b * r1) / det, dy = (-c * r0 + a * r1) / det;
-    x += dx, y += dy;
-    if (std::fabs(dx) + std::fabs(dy) < 1e-9) break;
-  }
-  *fi = x, *fj = y;
-  return x >= 0.0 && y >= 0.0 && x <= nx_ - 1 && y <= ny_ - 1;
+  return sl_column_map_to_grid(&map_, lat, lon, fi, fj) != 0;
 }
 
 void ColumnMap::grid_to_world(double fi, double fj, double *x, double *y) const
 {
-  *x = origin_[0] + fi * spacing_[0];
-  *y = origin_[1] + fj * spacing_[1];
+  sl_column_map_world(&map_, fi, fj, x, y);
 }
 
-double ColumnMap::height(double fi, double fj) const
-{
-  if (!height_) return 0.0;
-  const int i = std::clamp((int)std::floor(fi), 0, nx_ - 2), j = std::clamp((int)std::floor(fj), 0, ny_ - 2);
-  const double u = std::clamp(fi - i, 0.0, 1.0), v = std::clamp(fj - j, 0.0, 1.0);
-  auto h = [&](int ii, int jj) { return (double)height_[(size_t)jj * nx_ + ii]; };
-  // The triangles (00, 10, 11) for u >= v and (00, 11, 01) otherwise.
-  if (u >= v) return (1 - u) * h(i, j) + (u - v) * h(i + 1, j) + v * h(i + 1, j + 1);
-  return (1 - v) * h(i, j) + u * h(i + 1, j + 1) + (v - u) * h(i, j + 1);
-}
+double ColumnMap::height(double fi, double fj) const { return sl_heightfield_height_at(&terrain_, fi, fj); }
 
 void ColumnMap::lonlat_range(double *lon0, double *lon1, double *lat0, double *lat1) const
 {
-  *lon0 = *lat0 = INFINITY, *lon1 = *lat1 = -INFINITY;
-  for (size_t c = 0; c < (size_t)nx_ * ny_; ++c) {
-    *lon0 = std::min(*lon0, lon_[c]), *lon1 = std::max(*lon1, lon_[c]);
-    *lat0 = std::min(*lat0, lat_[c]), *lat1 = std::max(*lat1, lat_[c]);
-  }
+  sl_column_map_range(&map_, lon0, lon1, lat0, lat1);
 }
 
 // ---- TerrainScene ----

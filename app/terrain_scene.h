@@ -43,11 +43,8 @@ class ColumnMap {
   void lonlat_range(double *lon0, double *lon1, double *lat0, double *lat1) const;
 
  private:
-  void lonlat(double fi, double fj, double *lon, double *lat) const;
-  int nx_, ny_;
-  double origin_[2], spacing_[2];
-  const double *lat_, *lon_;
-  const float *height_;
+  sl_column_map map_{};
+  sl_heightfield terrain_{};
 };
 
 class TerrainScene {

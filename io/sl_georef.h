@@ -62,6 +62,24 @@ double sl_georef_grid_azimuth(const sl_georef *g, double compass_azimuth_deg);
  * tangent point: R - sqrt(R^2 - r^2), written without cancellation; about r^2 / 2R. */
 double sl_curvature_drop(double r);
 
+/* The grid's columns by latitude and longitude (column_map.c): per mass point its latitude and
+ * longitude (nx x ny, row-major from the south-west; not owned), and the world frame's x, y of
+ * column (i, j) = origin + (i, j) spacing. */
+typedef struct sl_column_map {
+  int nx, ny;
+  const double *lat, *lon;
+  double origin[2], spacing[2];
+} sl_column_map;
+void sl_column_map_init(sl_column_map *m, int nx, int ny, const double *lat, const double *lon, const double origin[2],
+                        const double spacing[2]);
+/* The latitude and longitude at fractional indices (fi, fj): bilinear within the cell. */
+void sl_column_map_lonlat(const sl_column_map *m, double fi, double fj, double *lon, double *lat);
+/* The fractional indices of (lat, lon), by Newton's method on the bilinear map from the nearest
+ * column; 0 when the point lies outside the lattice (or the map has no columns). */
+int sl_column_map_to_grid(const sl_column_map *m, double lat, double lon, double *fi, double *fj);
+void sl_column_map_world(const sl_column_map *m, double fi, double fj, double *x, double *y);
+void sl_column_map_range(const sl_column_map *m, double *lon0, double *lon1, double *lat0, double *lat1);
+
 #ifdef __cplusplus
 }
 #endif

@@ -142,6 +142,11 @@ typedef struct sl_load_options {
   int earth_curvature;        /* 1: each column sinks by the sphere's depth below the tangent plane */
 } sl_load_options;
 
+/* A 3-D float variable (dimensions z, y, x) of a NetCDF file, read as it stands into *out (malloc;
+ * the caller frees), its sizes into n (x, y, z); negative or non-finite values are an error naming
+ * the element. For fields that are not storms (a reference medium's extinction). */
+int sl_read_field3d(const char *path, const char *variable, int n[3], float **out, sl_error *err);
+
 /* Reads the file's shape, projection attributes and times. */
 int sl_storm_read_info(const char *path, sl_storm_info *info, sl_error *err);
 /* Reads one time into a uniform grid (frees nothing of *frame on failure: it stays zeroed). */

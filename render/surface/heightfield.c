@@ -11,6 +11,22 @@ void sl_heightfield_point(const sl_heightfield *hf, int i, int j, double p[3])
   p[2] = hf->height[(size_t)j * hf->nx + i];
 }
 
+double sl_heightfield_height_at(const sl_heightfield *hf, double fi, double fj)
+{
+  if (!hf->height || hf->nx < 2 || hf->ny < 2) return hf->height ? hf->height[0] : 0.0;
+  int i = (int)floor(fi), j = (int)floor(fj);
+  i = i < 0 ? 0 : i > hf->nx - 2 ? hf->nx - 2 : i;
+  j = j < 0 ? 0 : j > hf->ny - 2 ? hf->ny - 2 : j;
+  double u = fi - i, v = fj - j;
+  u = u < 0.0 ? 0.0 : u > 1.0 ? 1.0 : u;
+  v = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;
+  const float *h = hf->height + (size_t)j * hf->nx + i;
+  const double h00 = h[0], h10 = h[1], h01 = h[hf->nx], h11 = h[hf->nx + 1];
+  /* The cell's triangles (00, 10, 11) for u >= v and (00, 11, 01) otherwise, as the ray hits. */
+  if (u >= v) return (1 - u) * h00 + (u - v) * h10 + v * h11;
+  return (1 - v) * h00 + u * h11 + (v - u) * h01;
+}
+
 void sl_heightfield_normal(const sl_heightfield *hf, int i, int j, double n[3])
 {
   const int i0 = i > 0 ? i - 1 : i, i1 = i < hf->nx - 1 ? i + 1 : i;

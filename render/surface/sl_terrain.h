@@ -33,6 +33,9 @@ typedef struct sl_heightfield {
 void sl_heightfield_init(sl_heightfield *hf, int nx, int ny, const double origin[2], const double spacing[2],
                          const float *height);
 
+/* The height of the triangles at fractional lattice indices (fi, fj), clamped into the lattice:
+ * the surface sl_heightfield_ray hits. */
+double sl_heightfield_height_at(const sl_heightfield *hf, double fi, double fj);
 /* World position of lattice point (i, j). */
 void sl_heightfield_point(const sl_heightfield *hf, int i, int j, double p[3]);
 /* Unit upward normal at lattice point (i, j) from central differences (one-sided at the edges). */
