@@ -55,10 +55,9 @@ void main()
     int angleIndex = 0;
     float angleWeight = 0.0;
     if (slMode != SL_MODE_LOW_ALBEDO && slNf > 0) {
-      // atan2 keeps the angle accurate next to 0 and 180 degrees, where float acos does not.
-      float u = atan(length(cross(slSun, d)), dot(slSun, d)) * slAngleInvStep;
-      angleIndex = min(int(u), slAngles - 2);
-      angleWeight = min(u - float(angleIndex), 1.0);
+      float u = sl_angle_grid_position(length(cross(slSun, d)), dot(slSun, d), slAngleInvStep);
+      angleIndex = sl_angle_row(u, slAngles);
+      angleWeight = sl_angle_weight(u, angleIndex);
     }
     float dt = 3.0e38;
     for (int a = 0; a < 3; ++a)

@@ -130,42 +130,220 @@ static inline __attribute__((always_inline)) void march_batch_phases(const sl_li
   }
 }
 
+/* A batch of a ray's march steps: per step, and per wavelength and step (or point: a step's two
+ * ends, shared between neighbours), in arrays that the stages' vector loops read; and the light at
+ * the end of the last step gathered, carried into the next batch when its first step follows. */
+typedef struct march_batch {
+  double beta[MARCH_BATCH], tm[MARCH_BATCH], n[MARCH_BATCH], opacity[MARCH_BATCH];
+  double m0[MARCH_BATCH], m1[MARCH_BATCH], inv_beta[MARCH_BATCH];
+  double phase[SL_MAX_WAVELENGTHS][MARCH_BATCH], sun[SL_MAX_WAVELENGTHS][MARCH_BATCH];
+  double l0[SL_MAX_WAVELENGTHS][MARCH_BATCH], l1[SL_MAX_WAVELENGTHS][MARCH_BATCH];
+  double radiance[SL_MAX_WAVELENGTHS][MARCH_BATCH];
+  double p_t[MARCH_POINTS], p_state[SL_MAX_WAVELENGTHS + 1][MARCH_POINTS];
+  lv_cell p_cell[MARCH_POINTS];
+  sl__field_cell cell[MARCH_BATCH];
+  float fields[MARCH_BATCH][SL_MAX_FIELDS];
+  int step[MARCH_BATCH], start[MARCH_BATCH], end[MARCH_BATCH];
+  int live;
+  double carried[SL_MAX_WAVELENGTHS + 1];
+  int carried_step;
+} march_batch;
+
+/* The ray's next steps from *s in occupied bricks, up to `size`, their cells prefetched; empty
+ * bricks jumped (every step whose midpoint lies before a brick's exit samples nothing). Then their
+ * fields; the steps with medium stay, in b->live. */
+static inline __attribute__((always_inline)) void march_batch_steps(const sl_renderer *r, const int nf,
+                                                                    const double o[3], const double d[3], double t0,
+                                                                    double dt, int nsteps, int size, int *s,
+                                                                    march_batch *b, long *samples)
+{
+  int cnt = 0;
+  while (cnt < size && *s < nsteps) {
+    const double tm = t0 + *s * dt + 0.5 * dt;
+    const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
+    (*samples)++;
+    if (sl__field_cell_at(r, nf, x, 1, &b->cell[cnt])) {
+      b->step[cnt++] = (*s)++;
+      continue;
+    }
+    /* Outside the cell lattice's box (in an occupied brick's clamp) every field is zero. */
+    const double exit = empty_brick_exit(r, x, d);
+    const int next = exit >= 0.0 ? (int)ceil((tm + exit - t0) / dt - 0.5) : *s + 1;
+    *s = next > *s ? next : *s + 1;
+  }
+  int live = 0;
+  for (int i = 0; i < cnt; ++i) {
+    float v[SL__FIELD_LANES];
+    sl__field_fetch(r, nf, &b->cell[i], v);
+    double beta = 0.0;
+    for (int j = 0; j < nf; ++j) beta += v[j];
+    if (!(beta > 0.0)) continue;
+    for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
+    b->beta[live] = beta, b->step[live] = b->step[i];
+    b->tm[live] = t0 + b->step[i] * dt + 0.5 * dt;
+    live++;
+  }
+  b->live = live;
+}
+
+/* The light at each step's two ends from the light volume (a step that follows the one before it
+ * directly shares that one's end; the first, the previous batch's), its mean n, and the sunlight
+ * at each step's middle. */
+static inline __attribute__((always_inline)) void march_batch_light(const sl_renderer *r, const int nwl,
+                                                                    const sun_table *suntab,
+                                                                    const sl__sun_lane *sun_lane, const double o[3],
+                                                                    const double d[3], double t0, double dt,
+                                                                    march_batch *b)
+{
+  const int live = b->live;
+  int npts = 0, first_fetched = 0;
+  if (b->step[0] == b->carried_step + 1) {
+    for (int c = 0; c <= nwl; ++c) b->p_state[c][0] = b->carried[c];
+    npts = first_fetched = 1;
+  }
+  for (int i = 0; i < live; ++i) {
+    if (i == 0 && first_fetched) b->start[i] = 0;
+    else if (i > 0 && b->step[i] == b->step[i - 1] + 1) b->start[i] = b->end[i - 1];
+    else b->p_t[b->start[i] = npts++] = t0 + b->step[i] * dt;
+    b->p_t[b->end[i] = npts++] = t0 + b->step[i] * dt + dt;
+  }
+  for (int k = first_fetched; k < npts; ++k) {
+    const double x[3] = {o[0] + b->p_t[k] * d[0], o[1] + b->p_t[k] * d[1], o[2] + b->p_t[k] * d[2]};
+    light_volume_cell(r, nwl, x, &b->p_cell[k]);
+  }
+  for (int k = first_fetched; k < npts; ++k) light_volume_fetch(r, nwl, &b->p_cell[k], b->p_state, k);
+  for (int c = 0; c < nwl; ++c) {
+    double *restrict lit = b->p_state[c];
+#pragma omp simd
+    for (int k = first_fetched; k < npts; ++k) lit[k] = exp(lit[k]);
+  }
+  for (int i = 0; i < live; ++i) {
+    const int k0 = b->start[i], k1 = b->end[i];
+    for (int c = 0; c < nwl; ++c) b->l0[c][i] = b->p_state[c][k0], b->l1[c][i] = b->p_state[c][k1];
+    b->n[i] = 0.5 * (b->p_state[nwl][k0] + b->p_state[nwl][k1]);
+    double sunlight[SL_MAX_WAVELENGTHS];
+    const double x[3] = {o[0] + b->tm[i] * d[0], o[1] + b->tm[i] * d[1], o[2] + b->tm[i] * d[2]};
+    sl__sun_at(suntab, sun_lane, x, sunlight);
+    for (int c = 0; c < nwl; ++c) b->sun[c][i] = sunlight[c];
+  }
+  for (int c = 0; c <= nwl; ++c) b->carried[c] = b->p_state[c][b->end[live - 1]];
+  b->carried_step = b->step[live - 1];
+}
+
+/* Eq. 26's angular term over only the fields the batch holds (bitwise the same), then the light
+ * each step sends toward the eye: the light is linear between a step's ends (the light volume
+ * holds it at every point), the slicer's closed-form gather with no extra in-segment attenuation.
+ * One exponential serves the step: opacity, transparency and the gather's moments. */
+static inline __attribute__((always_inline)) void march_batch_scatter(const sl_light_model *m,
+                                                                      const sl_light_model *subsets, const int nf,
+                                                                      const int nwl, int angle_index,
+                                                                      double angle_weight, double dt, march_batch *b)
+{
+  const int live = b->live;
+  const sl_light_model *held_model = m;
+  const int held = sl__batch_fields(subsets, nf, live, b->fields, &held_model);
+#define MARCH_PHASES(model, mode, count) \
+  march_batch_phases(model, mode, count, nwl, live, b->fields, b->n, angle_index, angle_weight, b->phase)
+  SL_WITH_BATCH_MODEL(m, held_model, held, nf, MARCH_PHASES);
+#undef MARCH_PHASES
+#pragma omp simd
+  for (int i = 0; i < live; ++i) {
+    b->inv_beta[i] = 1.0 / b->beta[i];
+    b->opacity[i] = -expm1(-b->beta[i] * dt);
+    const double e = 1.0 - b->opacity[i];
+    b->m0[i] = sl_segment_scatter_moment_exp(0, b->beta[i], dt, 1.0, e);
+    b->m1[i] = sl_segment_scatter_moment_exp(1, b->beta[i], dt, 1.0, e);
+  }
+  for (int c = 0; c < nwl; ++c) {
+#pragma omp simd
+    for (int i = 0; i < live; ++i)
+      b->radiance[c][i] = (b->l0[c][i] * b->m0[i] + (b->l1[c][i] - b->l0[c][i]) * b->m1[i]) * b->phase[c][i] *
+                          b->inv_beta[i] * b->sun[c][i];
+  }
+}
+
+/* The batch into the ray's accumulator a, front to back; 1 once its transparency falls below
+ * `termination` (the ray ends). */
+static inline __attribute__((always_inline)) int march_batch_composite(const int nwl, const march_batch *b,
+                                                                       double depth_per_t, double termination,
+                                                                       float *a)
+{
+  for (int i = 0; i < b->live; ++i) {
+    const double w = a[nwl];
+    for (int c = 0; c < nwl; ++c) a[c] += (float)(w * b->radiance[c][i]);
+    a[nwl + 1] += (float)(w * b->opacity[i] * b->tm[i] * depth_per_t);
+    a[nwl] *= (float)(1.0 - b->opacity[i]);
+    if (a[nwl] < termination) return 1;
+  }
+  return 0;
+}
+
+/* One pixel's ray d over [t0, t1] into its accumulator a: its scattering angle's table row (fixed
+ * along the ray under a collimated sun), steps of at most 1/march_samples of a grid cell along
+ * every axis (by default two: the light volume holds the light at the grid's resolution, and a
+ * finer march keeps optically thick surfaces from speckling), gathered a batch at a time; a ray's
+ * first batch is small, since a ray into a thick cloud ends after a few steps. */
+static inline __attribute__((always_inline)) void march_ray(const march_frame *f, const int nf, const int nwl,
+                                                            const sl__sun_lane *sun_lane, const double d[3],
+                                                            double t0, double t1, march_batch *b, float *a,
+                                                            long *samples)
+{
+  const sl_renderer *r = f->r;
+  const sl_scene *sc = &r->scene;
+  const sl_light_model *subsets = r->has_subsets ? r->field_subsets : NULL;
+  const sl_phase_table *grid_table = f->grid_table;
+  const double *o = f->cam->position, *sun = sc->sun_direction;
+  int angle_index = 0;
+  double angle_weight = 0.0;
+  if (grid_table) {
+    double across[3];
+    sl_cross3(sun, d, across);
+    const double u = sl_angle_grid_position(sqrt(sl_dot3(across, across)), sl_dot3(sun, d), grid_table->inv_step_rad);
+    angle_index = sl_angle_row(u, grid_table->n_angles);
+    angle_weight = sl_angle_weight(u, angle_index);
+  }
+  const int march_samples = sl__march_samples(sc);
+  double dt = INFINITY;
+  for (int ax = 0; ax < 3; ++ax)
+    if (fabs(d[ax]) > 1e-12) dt = fmin(dt, r->shape.spacing[ax] / (march_samples * fabs(d[ax])));
+  const int nsteps = sl_march_steps(t1 - t0, dt);
+  dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
+  const double depth_per_t = sl_dot3(d, f->fwd);
+  memset(b->carried, 0, sizeof b->carried);
+  b->carried_step = -2;
+  int size = MARCH_FIRST_BATCH, ended = 0;
+  for (int s = 0; s < nsteps && !ended;) {
+    march_batch_steps(r, nf, o, d, t0, dt, nsteps, size, &s, b, samples);
+    if (size < MARCH_BATCH) size *= 2;
+    if (!b->live) continue;
+    march_batch_light(r, nwl, f->suntab, sun_lane, o, d, t0, dt, b);
+    march_batch_scatter(&r->model, subsets, nf, nwl, angle_index, angle_weight, dt, b);
+    ended = march_batch_composite(nwl, b, depth_per_t, sc->termination_transparency, a);
+  }
+}
+
 /* One thread's share of the march (the pixel loop inside binds to the caller's parallel region),
  * inlined into march_run with constant field and wavelength counts as the slicer's passes are
- * (renderer.c, slicer_run). */
+ * (slicer.c, slicer_run): per pixel its ray through the content box up to any opaque surface,
+ * then the resolve against the air in front. */
 static inline __attribute__((always_inline)) void march_pixels(march_frame *f, const int nf, const int nwl)
 {
-  sl_renderer *r = f->r;
+  const sl_renderer *r = f->r;
   const sl_scene *sc = &r->scene;
-  const sl_light_model *m = &r->model;
-  const sl_light_model *subsets = r->has_subsets ? r->field_subsets : NULL;
   const sl_camera *cam = f->cam;
   sl_image *img = f->img;
-  const sun_table *suntab = f->suntab;
-  const sl__sun_lane sun_lane = sl__sun_table_lane(suntab);
-  const sl_phase_table *grid_table = f->grid_table;
+  const sl__sun_lane sun_lane = sl__sun_table_lane(f->suntab);
   const double *fwd = f->fwd, *right = f->right, *up = f->up;
   const double tan_half = f->tan_half, aspect = f->aspect, h_center = f->h_center, f_o = f->f_o;
   const size_t np = (size_t)img->width * img->height;
-  const double *o = cam->position, *sun = sc->sun_direction;
-  const int march_samples = sl__march_samples(sc);
+  const double *o = cam->position;
   long samples = 0;
-  /* This thread's batch: per step, and per wavelength and step (or point), in arrays that the
-   * vector loops read. */
-  int b_step[MARCH_BATCH], b_start[MARCH_BATCH], b_end[MARCH_BATCH];
-  sl__field_cell b_cell[MARCH_BATCH];
-  float b_fields[MARCH_BATCH][SL_MAX_FIELDS];
-  double b_beta[MARCH_BATCH], b_tm[MARCH_BATCH], b_n[MARCH_BATCH], b_opacity[MARCH_BATCH];
-  double b_phase[SL_MAX_WAVELENGTHS][MARCH_BATCH], b_sun[SL_MAX_WAVELENGTHS][MARCH_BATCH];
-  double b_l0[SL_MAX_WAVELENGTHS][MARCH_BATCH], b_l1[SL_MAX_WAVELENGTHS][MARCH_BATCH];
-  double b_radiance[SL_MAX_WAVELENGTHS][MARCH_BATCH];
-  double p_t[MARCH_POINTS], p_state[SL_MAX_WAVELENGTHS + 1][MARCH_POINTS];
-  lv_cell p_cell[MARCH_POINTS];
+  march_batch batch; /* this thread's */
 #pragma omp for schedule(dynamic, 64) nowait
   for (size_t q = 0; q < np; ++q) {
     double d[3];
     sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
-                  (int)(q / img->width), d);
+                        (int)(q / img->width), d);
     float a[SL_MAX_WAVELENGTHS + 2];
     memset(a, 0, sizeof a);
     a[nwl] = 1.0f;
@@ -174,133 +352,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
     if (t0 < 0.0) t0 = 0.0;
     if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
     if (t1 <= t0) hit = 0; /* an opaque surface in front of the volume */
-    if (hit) {
-      int angle_index = 0;
-      double angle_weight = 0.0;
-      if (grid_table) {
-        double c = sl_dot3(sun, d);
-        c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
-        const double u = acos(c) * grid_table->inv_step_rad;
-        angle_index = (int)u;
-        if (angle_index > grid_table->n_angles - 2) angle_index = grid_table->n_angles - 2;
-        angle_weight = u - angle_index > 1.0 ? 1.0 : u - angle_index;
-      }
-      /* By default two samples per grid cell along every axis: the light volume holds the light
-       * at the grid's resolution, and a finer march keeps optically thick surfaces from
-       * speckling. */
-      double dt = INFINITY;
-      for (int ax = 0; ax < 3; ++ax)
-        if (fabs(d[ax]) > 1e-12) dt = fmin(dt, r->shape.spacing[ax] / (march_samples * fabs(d[ax])));
-      const int nsteps = sl_march_steps(t1 - t0, dt);
-      dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
-      const double depth_per_t = sl_dot3(d, fwd);
-      /* The light at the end of the last step gathered (carried into the next batch when the
-       * next step gathered follows it directly). */
-      double carried[SL_MAX_WAVELENGTHS + 1] = {0};
-      int carried_step = -2, batch = MARCH_FIRST_BATCH, ended = 0;
-      for (int s = 0; s < nsteps && !ended;) {
-        /* The batch's steps in occupied bricks, their cells prefetched; empty bricks jumped:
-         * every step whose midpoint lies before a brick's exit samples nothing. */
-        int cnt = 0;
-        while (cnt < batch && s < nsteps) {
-          const double tm = t0 + s * dt + 0.5 * dt;
-          const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
-          samples++;
-          if (sl__field_cell_at(r, nf, x, 1, &b_cell[cnt])) {
-            b_step[cnt++] = s++;
-            continue;
-          }
-          /* Outside the cell lattice's box (in an occupied brick's clamp) every field is zero. */
-          const double exit = empty_brick_exit(r, x, d);
-          const int next = exit >= 0.0 ? (int)ceil((tm + exit - t0) / dt - 0.5) : s + 1;
-          s = next > s ? next : s + 1;
-        }
-        if (batch < MARCH_BATCH) batch *= 2;
-        int live = 0;
-        for (int i = 0; i < cnt; ++i) {
-          float v[SL__FIELD_LANES];
-          sl__field_fetch(r, nf, &b_cell[i], v);
-          double beta = 0.0;
-          for (int j = 0; j < nf; ++j) beta += v[j];
-          if (!(beta > 0.0)) continue;
-          for (int j = 0; j < nf; ++j) b_fields[live][j] = v[j];
-          b_beta[live] = beta, b_step[live] = b_step[i];
-          b_tm[live] = t0 + b_step[i] * dt + 0.5 * dt;
-          live++;
-        }
-        if (!live) continue;
-        /* The light at each step's two ends: a step that follows the one before it directly
-         * shares that one's end (the first, the previous batch's). */
-        int npts = 0, first_fetched = 0;
-        if (b_step[0] == carried_step + 1) {
-          for (int c = 0; c <= nwl; ++c) p_state[c][0] = carried[c];
-          npts = first_fetched = 1;
-        }
-        for (int i = 0; i < live; ++i) {
-          if (i == 0 && first_fetched) b_start[i] = 0;
-          else if (i > 0 && b_step[i] == b_step[i - 1] + 1) b_start[i] = b_end[i - 1];
-          else p_t[b_start[i] = npts++] = t0 + b_step[i] * dt;
-          p_t[b_end[i] = npts++] = t0 + b_step[i] * dt + dt;
-        }
-        for (int k = first_fetched; k < npts; ++k) {
-          const double x[3] = {o[0] + p_t[k] * d[0], o[1] + p_t[k] * d[1], o[2] + p_t[k] * d[2]};
-          light_volume_cell(r, nwl, x, &p_cell[k]);
-        }
-        for (int k = first_fetched; k < npts; ++k) light_volume_fetch(r, nwl, &p_cell[k], p_state, k);
-        for (int c = 0; c < nwl; ++c) {
-          double *restrict lit = p_state[c];
-#pragma omp simd
-          for (int k = first_fetched; k < npts; ++k) lit[k] = exp(lit[k]);
-        }
-        for (int i = 0; i < live; ++i) {
-          const int k0 = b_start[i], k1 = b_end[i];
-          for (int c = 0; c < nwl; ++c) b_l0[c][i] = p_state[c][k0], b_l1[c][i] = p_state[c][k1];
-          b_n[i] = 0.5 * (p_state[nwl][k0] + p_state[nwl][k1]);
-          double sunlight[SL_MAX_WAVELENGTHS];
-          const double x[3] = {o[0] + b_tm[i] * d[0], o[1] + b_tm[i] * d[1], o[2] + b_tm[i] * d[2]};
-          sl__sun_at(suntab, &sun_lane, x, sunlight);
-          for (int c = 0; c < nwl; ++c) b_sun[c][i] = sunlight[c];
-        }
-        for (int c = 0; c <= nwl; ++c) carried[c] = p_state[c][b_end[live - 1]];
-        carried_step = b_step[live - 1];
-        /* Eq. 26's angular term, over only the fields the batch holds (bitwise the same). */
-        const sl_light_model *held_model = m;
-        const int held = sl__batch_fields(subsets, nf, live, b_fields, &held_model);
-#define MARCH_PHASES(model, mode, count) \
-  march_batch_phases(model, mode, count, nwl, live, b_fields, b_n, angle_index, angle_weight, b_phase)
-        SL_WITH_BATCH_MODEL(m, held_model, held, nf, MARCH_PHASES);
-#undef MARCH_PHASES
-        /* The light is linear between a step's ends (the light volume holds it at every point):
-         * the slicer's closed-form gather with no extra in-segment attenuation. One exponential
-         * serves the step: opacity, transparency and the gather's moments. */
-        double b_m0[MARCH_BATCH], b_m1[MARCH_BATCH], b_inv_beta[MARCH_BATCH];
-#pragma omp simd
-        for (int i = 0; i < live; ++i) {
-          b_inv_beta[i] = 1.0 / b_beta[i];
-          b_opacity[i] = -expm1(-b_beta[i] * dt);
-          const double e = 1.0 - b_opacity[i];
-          b_m0[i] = sl_segment_scatter_moment_exp(0, b_beta[i], dt, 1.0, e);
-          b_m1[i] = sl_segment_scatter_moment_exp(1, b_beta[i], dt, 1.0, e);
-        }
-        for (int c = 0; c < nwl; ++c) {
-#pragma omp simd
-          for (int i = 0; i < live; ++i)
-            b_radiance[c][i] =
-                (b_l0[c][i] * b_m0[i] + (b_l1[c][i] - b_l0[c][i]) * b_m1[i]) * b_phase[c][i] * b_inv_beta[i] * b_sun[c][i];
-        }
-        /* Front to back, until the ray's transparency falls below the termination threshold. */
-        for (int i = 0; i < live; ++i) {
-          const double w = a[nwl];
-          for (int c = 0; c < nwl; ++c) a[c] += (float)(w * b_radiance[c][i]);
-          a[nwl + 1] += (float)(w * b_opacity[i] * b_tm[i] * depth_per_t);
-          a[nwl] *= (float)(1.0 - b_opacity[i]);
-          if (a[nwl] < sc->termination_transparency) {
-            ended = 1;
-            break;
-          }
-        }
-      }
-    }
+    if (hit) march_ray(f, nf, nwl, &sun_lane, d, t0, t1, &batch, a, &samples);
     double t_mid = fabs(sl_dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl_dot3(fwd, d) : 0.5 * (t0 + t1);
     t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
     sl__resolve_pixel(r, sc->atmosphere ? f->view : NULL, d, t_mid, a, img, q);

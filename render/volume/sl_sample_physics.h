@@ -27,12 +27,14 @@
 #ifdef SL_REAL_IS_FLOAT
 #define sl_exp expf
 #define sl_log logf
+#define sl_atan2 atan2f
 #define sl_floor floorf
 #define sl_ceil ceilf
 #define sl_pow powf
 #else
 #define sl_exp exp
 #define sl_log log
+#define sl_atan2 atan2
 #define sl_floor floor
 #define sl_ceil ceil
 #define sl_pow pow
@@ -73,6 +75,7 @@
 #define SL_REAL float
 #define sl_exp exp
 #define sl_log log
+#define sl_atan2 atan
 #define sl_floor floor
 #define sl_ceil ceil
 #define sl_pow pow
@@ -251,6 +254,24 @@ SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FI
     }
     result[c] = sum;
   }
+}
+
+/* The phase tables' grid position of the scattering angle between the sunlight's direction and a
+ * view direction, from the length of their cross product and their dot product (unit vectors):
+ * theta = atan2(|sun x d|, sun . d) keeps its digits next to 0 and 180 degrees, where the acos of
+ * the dot product loses them (float most of all), times the grid's inverse step. */
+SL_INLINE SL_REAL sl_angle_grid_position(SL_REAL cross_length, SL_REAL cosine, SL_REAL inv_step)
+{
+  return sl_atan2(cross_length, cosine) * inv_step;
+}
+
+/* The table row at or below grid position u, the last but one at most, and the weight of the row
+ * above it (at most 1). */
+SL_INLINE int sl_angle_row(SL_REAL u, int n_angles) { return SL_MIN_INT(SL_INT(u), n_angles - 2); }
+SL_INLINE SL_REAL sl_angle_weight(SL_REAL u, int row)
+{
+  SL_REAL w = u - SL_TO_REAL(row);
+  return w > 1.0 ? 1.0 : w;
 }
 
 /* Steps of at most max_step that cover a ray's span through the volume. A span of a whole number

@@ -118,13 +118,12 @@ static inline __attribute__((always_inline)) void ray_setup(slicer_frame *f, con
     angle_index[q] = 0, angle_weight[q] = 0.0f;
     if (grid_table) {
       /* Scattering angle between the sunlight's propagation and the direction to the eye. */
-      double c = sl_dot3(sun, d);
-      c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
-      const double u = acos(c) * grid_table->inv_step_rad;
-      int i = (int)u;
-      if (i > grid_table->n_angles - 2) i = grid_table->n_angles - 2;
+      double across[3];
+      sl_cross3(sun, d, across);
+      const double u = sl_angle_grid_position(sqrt(sl_dot3(across, across)), sl_dot3(sun, d), grid_table->inv_step_rad);
+      const int i = sl_angle_row(u, grid_table->n_angles);
       angle_index[q] = i;
-      angle_weight[q] = (float)(u - i > 1.0 ? 1.0 : u - i);
+      angle_weight[q] = (float)sl_angle_weight(u, i);
     }
     double t0, t1;
     /* A ray almost parallel to the slices crosses none of them within the box. */

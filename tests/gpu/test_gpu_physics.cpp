@@ -3,8 +3,10 @@
 // 2. the shared functions compiled as GLSL (with the model in float textures and uniforms, as
 //    the GPU pass holds it) give the C results on a spread of inputs: the light fraction of
 //    eqs. 24 and 25 and of the low-albedo model, the expected scattering count (eq. 21), the
-//    eye gather's Ams_{n+1} + xi term (eq. 26), and the segment moments, which are checked
-//    against renderer.c's own closed forms (an independent implementation with expm1).
+//    eye gather's Ams_{n+1} + xi term (eq. 26), the segment moments, which are checked against a
+//    Simpson quadrature of their defining integrals, and the scattering angle's table row and
+//    weight (sl_angle_grid_position), checked against the angle the case was drawn with, down to
+//    a thousandth of a degree from 0 and 180 degrees.
 // Needs an X display (xvfb-run); particle tables come from the optics cache.
 #include <algorithm>
 #include <cmath>
@@ -16,6 +18,7 @@
 #include "sl_shaders.h"
 extern "C" {
 #include "renderer_internal.h"
+#include "sl_sample_physics.h"
 }
 
 namespace {
@@ -45,7 +48,8 @@ struct Lcg {
 
 const char *kShader = R"GLSL(//VTK::System::Dec
 //SL::Physics
-uniform sampler2D cases; // texel (i, 0): beta0, beta1, n, len; (i, 1): angle u, rate
+uniform sampler2D cases; // texel (i, 0): beta0, beta1, n, len; (i, 1): angle u, rate, sin, cos
+uniform float angleInvStep;
 in vec2 texCoord;
 //VTK::Output::Dec
 void main()
@@ -64,7 +68,9 @@ void main()
   sl_segment_scatter_moments(a.x + a.y, a.w, b.y, moments);
   gl_FragData[0] = vec4(fraction[0], fraction[1], fraction[2], sl_expected_scatter_count(beta, a.z, a.w));
   gl_FragData[1] = vec4(phase[0], phase[1], phase[2], moments[0]);
-  gl_FragData[2] = vec4(moments[1], 0.0, 0.0, 1.0);
+  float u = sl_angle_grid_position(b.z, b.w, angleInvStep);
+  int row = sl_angle_row(u, SL_ANGLE_ROWS);
+  gl_FragData[2] = vec4(moments[1], u, float(row), sl_angle_weight(u, row));
 }
 )GLSL";
 
@@ -127,6 +133,7 @@ int main(int argc, char **argv)
   const int angles = m.table[0][0]->n_angles;
   const int count = 256;
   std::vector<float> cases(count * 2 * 4, 0.0f);
+  std::vector<double> theta(count);
   Lcg rng;
   for (int i = 0; i < count; ++i) {
     float *a = &cases[4 * i], *b = &cases[4 * (count + i)];
@@ -136,9 +143,14 @@ int main(int argc, char **argv)
     a[3] = (float)std::pow(10.0, 3.3 * rng.next());                     // path, 1 m .. 2 km
     b[0] = (float)((angles - 1.001) * rng.next());                      // angle grid position
     b[1] = (float)(-2.0 + 5.0 * rng.next());                            // moments' rate
+    // A scattering angle, every eighth within 0.001-0.01 degrees of 0 or 180 (where acos fails).
+    const double near = (1e-3 + 9e-3 * rng.next()) * M_PI / 180.0;
+    theta[i] = i % 8 == 0 ? near : i % 8 == 1 ? M_PI - near : M_PI * rng.next();
+    b[2] = (float)std::sin(theta[i]), b[3] = (float)std::cos(theta[i]);
   }
   std::string shader = kShader;
-  shader.replace(shader.find("//SL::Physics"), 13, sl::gpu_physics_prelude());
+  shader.replace(shader.find("//SL::Physics"), 13,
+                 sl::gpu_physics_prelude() + "#define SL_ANGLE_ROWS " + std::to_string(angles) + "\n");
   sl_test::CaseShader gpu;
   if (!gpu.init(count, cases, shader, 3, &why)) {
     std::fprintf(stderr, "FAIL %s (run under xvfb-run)\n", why.c_str());
@@ -156,6 +168,7 @@ int main(int argc, char **argv)
     m.mode = modes[mode];
     model.Activate();
     model.SetUniforms(gpu.program());
+    gpu.program()->SetUniformf("angleInvStep", (float)m.table[0][0]->inv_step_rad);
     std::vector<float> out[3];
     gpu.run(out);
     model.Deactivate();
@@ -183,6 +196,16 @@ int main(int argc, char **argv)
         check(close(gm[k], moments[k], 1e-4, 1e-7 * total * a[3]), "segment moment", i, gm[k], moments[k]);
         worst_moments = std::max(worst_moments, std::fabs(gm[k] - moments[k]) / std::fabs(moments[k]));
       }
+      // The angle: the C function at the case's float sine and cosine, and the angle drawn.
+      const double inv_step = m.table[0][0]->inv_step_rad, u = sl_angle_grid_position(b[2], b[3], inv_step);
+      const int row = sl_angle_row(u, angles);
+      check(close(u, theta[i] * inv_step, 1e-6, 1e-5), "angle position (C)", i, u, theta[i] * inv_step);
+      // GLSL does not bound atan's error; Mesa's llvmpipe is within 2e-5 of it (0.004 degrees at 180).
+      check(close(out[2][4 * i + 1], u, 1e-4, 1e-4), "angle position", i, out[2][4 * i + 1], u);
+      check(std::fabs(out[2][4 * i + 2] - row) <= (std::fabs(u - std::round(u)) < 0.05 ? 1.0 : 0.0), "angle row", i,
+            out[2][4 * i + 2], row);
+      check(row <= angles - 2 && close(sl_angle_weight(u, row), u - row > 1.0 ? 1.0 : u - row, 0, 1e-12),
+            "angle weight (C)", i, sl_angle_weight(u, row), u - row);
       if (mode == 0) {
         std::fabs(total * b[1] * a[3]) < 0.25 ? ++taylor : ++closed;
         past_n += a[2] + 1.0 > max_n;
