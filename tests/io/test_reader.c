@@ -31,7 +31,7 @@ int main(void)
   CHECK_CLOSE(f.volume.spacing[2], 50.0, 0.0, 0.0);
   /* The grid is centred on its own centre: x from -(nx-1)/2 times the ground spacing, which is
    * DX over the Lambert map factor (within 1 % of DX between the generator's true latitudes;
-   * tests/unit/test_projection.c checks it against PROJ). */
+   * tests/io/test_projection.c checks it against PROJ). */
   CHECK_CLOSE(f.volume.origin[0], -5.5 * f.volume.spacing[0], 1e-12, 1e-9);
   CHECK_CLOSE(f.volume.spacing[0], 250.0, 0.01, 0.0);
   /* Model top 3000 m over a sea-level ocean: 60 levels of 50 m. */

@@ -601,7 +601,7 @@ static void test_cm1_and_cf(void)
     sl_storm_frame_free(&f);
   }
   /* Air at 0 K (or below) has no density; heights of 5000 km are metres labelled km. Both are
-   * refused, naming the problem (0 K used to surface as a negative cloud concentration). */
+   * refused, naming the problem (read as it stands, 0 K would give a negative cloud concentration). */
   const char *cf_bad =
       "netcdf cfb {\n dimensions: z = 2 ; y = 2 ; x = 2 ;\n variables:\n"
       " float z(z) ; z:units = \"%s\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
