@@ -1,4 +1,4 @@
-// stormlight reference: the Monte Carlo reference (issue 7). A scene file (JSON, docs/REFERENCE.md)
+// stormlight reference: the Monte Carlo reference. A scene file (JSON, docs/REFERENCE.md)
 // names a storm to render, a medium given directly (for fluxes or an image), or a point source in
 // an infinite medium; the path tracer in render/reference does the rest.
 #include <cjson/cJSON.h>

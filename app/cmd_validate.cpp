@@ -1,5 +1,5 @@
 // stormlight validate: the fast model (render/volume) at several settings against the Monte Carlo
-// reference (render/reference) on one scene, with time and error for each (issue 7, item 5). The
+// reference (render/reference) on one scene, with time and error for each. The
 // table, error maps and the speed-against-error plot go to a report folder; docs/ACCURACY.md says
 // what the numbers mean and how they were made.
 #include <cjson/cJSON.h>
@@ -51,7 +51,7 @@ const char *kCmd = "validate";
 
 // Pixels are classed by the optical depth tau along the view ray (the fast renderer's transparency,
 // a deterministic quadrature): none below kVolumeTau (sky, where both renderers draw the same air),
-// thin below kThinTau (issue 7), dense above.
+// thin below kThinTau, dense above.
 const double kVolumeTau = 0.01;
 const double kThinTau = 2.0;
 

@@ -1,7 +1,7 @@
-/* Domain-averaged reflectance, transmittance and absorptance of a collimated sun (issue 7, item
- * 4): the quantities plane-parallel tables and the I3RC intercomparison publish. Photons enter
- * uniformly over the box's top face; absorption is scored where it happens (the weight times
- * 1 - albedo at every collision, the weight then carrying on times the albedo), so every photon
+/* Domain-averaged reflectance, transmittance and absorptance of a collimated sun: the quantities
+ * plane-parallel tables and the I3RC intercomparison publish. Photons enter uniformly over the
+ * box's top face; absorption is scored where it happens (the weight times 1 - albedo at every
+ * collision, the weight then carrying on times the albedo), so every photon
  * splits its unit energy exactly between the four tallies and energy balance is checked without
  * noise from the absorption. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Progressive images of the volume layer (issue 7, items 1 and 2). Each sample of a pixel at one
+/* Progressive images of the volume layer. Each sample of a pixel at one
  * wavelength is an independent path: its transparency by ratio tracking, its scattered light by
  * delta tracking with next-event estimation of the sun at every collision (and, with skylight,
  * the sky collected where a scattered path leaves the box). The air is treated as render/volume

@@ -1,4 +1,4 @@
-/* An isotropic point source in an infinite homogeneous medium (issue 7, item 3): the light field
+/* An isotropic point source in an infinite homogeneous medium: the light field
  * the atmospheric point spread function of render/apsf models. By symmetry the radiance is the
  * same at every point of the sphere of radius R around the source, so instead of a detector at
  * one point (whose 1/r^2 estimator has infinite variance) every crossing of the whole sphere is

@@ -1,4 +1,4 @@
-/* The Monte Carlo reference (issue 7): a spectral volumetric path tracer over the same lattice,
+/* The Monte Carlo reference: a spectral volumetric path tracer over the same lattice,
  * particle tables, sun, sky and camera as the fast renderer (render/volume), so that the only
  * difference between the two is how multiple scattering is treated. docs/REFERENCE.md derives
  * every estimator and lists the validation.
@@ -156,7 +156,7 @@ typedef struct sl_ref_scene {
   const sl_atmosphere *atmosphere;
   double sun_irradiance[SL_REF_MAX_WAVELENGTHS];
   double sky_radiance[SL_REF_MAX_WAVELENGTHS];
-  int skylight;        /* 1: scattered paths that leave the box collect the sky (issue 7, item 2) */
+  int skylight;        /* 1: scattered paths that leave the box collect the sky */
   int max_scatter;     /* 0: unlimited; 1: single scattering; n: at most n scatterings */
   int roulette_depth;  /* scatterings before Russian roulette may end a path; 0: 16 */
   /* 1: next-event estimation of the sun alone. By default every scattering also proposes a

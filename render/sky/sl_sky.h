@@ -1,4 +1,4 @@
-/* Sky, sun and aerial perspective (Riley et al. 2004, sections 4.1 and 4.2.4; issue 5).
+/* Sky, sun and aerial perspective (Riley et al. 2004, sections 4.1 and 4.2.4).
  *
  * Plan once, use many: sl_atmosphere_init() fixes the wavelengths, the sea-level Rayleigh
  * scattering coefficients, the scale height, the top-of-atmosphere sun irradiance and the earth
