@@ -28,6 +28,113 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
   }
 }
 
+/* The buffers and facts one species' deposit reads: the column interfaces (z, n2 apart per level),
+ * the air's densities and freezing flags per cell, the columns' sinking (drop, or NULL), the
+ * output lattice (nzo levels of dz from ground) and the species' effective-radius sums. */
+typedef struct remap_context {
+  const char *path;
+  const sl_subset *s;
+  size_t n2, n3;
+  const double *z, *drop;
+  const float *rho_dry, *rho_moist;
+  const unsigned char *frozen;
+  int nzo;
+  double ground, dz;
+  float **lnr_eta;
+  float *q, *qn; /* scratch: the species' variable and its number */
+} remap_context;
+
+/* Species sp (index i) read, checked and deposited into the frame's fields: mixing ratios below
+ * zero clamped and counted, non-finite or unphysical values refused naming the level; its stats
+ * into frame->species_stats[i]. */
+static int remap_species(const remap_context *x, const sl_level_reader *r, const sl_species *sp, int i,
+                         sl_storm_frame *frame, double *sum, sl_error *err)
+{
+  const char *path = x->path;
+  const sl_subset *s = x->s;
+  const size_t n2 = x->n2, n3 = x->n3;
+  const double *z = x->z, *drop = x->drop;
+  const int nzo = x->nzo;
+  const double ground = x->ground, dz = x->dz;
+  float *q = x->q, *qn = x->qn;
+  float **lnr_eta = x->lnr_eta;
+  int rc;
+  sl_field_stats *st = &frame->species_stats[i];
+  st->present = 1, st->q_min = INFINITY, st->q_max = -INFINITY;
+  if ((rc = r->field(r->ctx, sp->variable, q, err))) return rc;
+  if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, qn, err))) return rc;
+  const float *rho_air = sp->per_moist_air ? x->rho_moist : x->rho_dry;
+  st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
+  for (size_t i3 = 0; i3 < n3; ++i3) {
+    double v = q[i3];
+    if (v < st->q_min) st->q_min = v;
+    if (v > st->q_max) st->q_max = v;
+    if (!isfinite(v))
+      return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
+                     "declare as _FillValue or missing_value)", path, sp->variable, s->k0 + (int)(i3 / n2));
+    if (v < 0.0) {
+      st->negative_count++;
+      v = 0.0;
+    }
+    if (v > 0.1)
+      return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
+                     sp->variable, v, s->k0 + (int)(i3 / n2));
+    double number = -1.0; /* none */
+    if (sp->number_variable[0]) {
+      number = qn[i3];
+      if (!isfinite(number))
+        return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable,
+                       s->k0 + (int)(i3 / n2));
+      if (number < 0.0) st->number_negative++, number = 0.0;
+      if (number == 0.0 && v > 0.0) st->number_missing++;
+    }
+    *sum += v;
+    if (v == 0.0) continue;
+    const size_t c = i3 % n2;
+    const int target = x->frozen[i3] ? sp->cold : sp->warm;
+    double r_eff;
+    const double eta = sl_species_eta(sp, target, rho_air[i3], v, x->rho_dry[i3], number, &r_eff);
+    if (r_eff > 0.0 && v > 1e-6) {
+      if (r_eff < st->r_eff_min) st->r_eff_min = r_eff;
+      if (r_eff > st->r_eff_max) st->r_eff_max = r_eff;
+    }
+    /* A column that sinks by the earth's curvature deposits lower in the grid. */
+    const double sink = drop ? drop[c] : 0.0;
+    deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
+    if (lnr_eta[target])
+      deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
+                    eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m));
+  }
+  if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
+  st->q_mean = *sum / (double)n3;
+  frame->species[i] = *sp;
+  if (!frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
+  return SL_OK;
+}
+
+/* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
+ * supercell's ice and snow at 10 minutes) gets no field, so no tables and no per-sample work. A
+ * storm with nothing at all keeps its first field, empty, and renders as the sky. */
+static void drop_empty_fields(sl_storm_frame *frame, float **lnr_eta)
+{
+  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1;
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
+    const float *eta = frame->volume.eta[p];
+    if (!eta) continue;
+    if (first < 0) first = p;
+    size_t i = 0, n = sl_volume_count(&frame->volume);
+    while (i < n && eta[i] == 0.0f) ++i;
+    empty[p] = i == n;
+    held += !empty[p];
+  }
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    if (empty[p] && (held > 0 || p != first)) {
+      sl_volume_drop_field(&frame->volume, p);
+      free(lnr_eta[p]);
+      lnr_eta[p] = NULL;
+    }
+}
+
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
                     int nspecies, double ground, double top, double dz, const double spacing_h[2],
                     const double corner[2], const double *drop, int max_fields, sl_storm_frame *frame,
@@ -85,85 +192,11 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       goto done;
     }
   }
-  for (int i = 0; i < nspecies; ++i) {
-    const sl_species *sp = &species[i];
-    sl_field_stats *st = &frame->species_stats[i];
-    st->present = 1, st->q_min = INFINITY, st->q_max = -INFINITY;
-    if ((rc = r->field(r->ctx, sp->variable, q, err))) goto done;
-    if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, qn, err))) goto done;
-    const float *rho_air = sp->per_moist_air ? rho_moist : rho_dry;
-    st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
-    for (size_t i3 = 0; i3 < n3; ++i3) {
-      double v = q[i3];
-      if (v < st->q_min) st->q_min = v;
-      if (v > st->q_max) st->q_max = v;
-      if (!isfinite(v)) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
-                     "declare as _FillValue or missing_value)", path, sp->variable, s->k0 + (int)(i3 / n2));
-        goto done;
-      }
-      if (v < 0.0) {
-        st->negative_count++;
-        v = 0.0;
-      }
-      if (v > 0.1) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
-                     sp->variable, v, s->k0 + (int)(i3 / n2));
-        goto done;
-      }
-      double number = -1.0; /* none */
-      if (sp->number_variable[0]) {
-        number = qn[i3];
-        if (!isfinite(number)) {
-          rc = sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable,
-                       s->k0 + (int)(i3 / n2));
-          goto done;
-        }
-        if (number < 0.0) st->number_negative++, number = 0.0;
-        if (number == 0.0 && v > 0.0) st->number_missing++;
-      }
-      sums[i] += v;
-      if (v == 0.0) continue;
-      const size_t c = i3 % n2;
-      const int target = frozen[i3] ? sp->cold : sp->warm;
-      double r_eff;
-      const double eta = sl_species_eta(sp, target, rho_air[i3], v, rho_dry[i3], number, &r_eff);
-      if (r_eff > 0.0 && v > 1e-6) {
-        if (r_eff < st->r_eff_min) st->r_eff_min = r_eff;
-        if (r_eff > st->r_eff_max) st->r_eff_max = r_eff;
-      }
-      /* A column that sinks by the earth's curvature deposits lower in the grid. */
-      const double sink = drop ? drop[c] : 0.0;
-      deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
-      if (lnr_eta[target])
-        deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
-                      eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m));
-    }
-    if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
-    st->q_mean = sums[i] / (double)n3;
-    frame->species[i] = *sp;
-    if (!frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
-  }
+  const remap_context x = {path, s, n2, n3, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz, lnr_eta, q, qn};
+  for (int i = 0; i < nspecies; ++i)
+    if ((rc = remap_species(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
   frame->nspecies = nspecies;
-  /* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
-   * supercell's ice and snow at 10 minutes) gets no field, so no tables and no per-sample work. A
-   * storm with nothing at all keeps its first field, empty, and renders as the sky. */
-  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1;
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    const float *eta = frame->volume.eta[p];
-    if (!eta) continue;
-    if (first < 0) first = p;
-    size_t i = 0, n = sl_volume_count(&frame->volume);
-    while (i < n && eta[i] == 0.0f) ++i;
-    empty[p] = i == n;
-    held += !empty[p];
-  }
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-    if (empty[p] && (held > 0 || p != first)) {
-      sl_volume_drop_field(&frame->volume, p);
-      free(lnr_eta[p]);
-      lnr_eta[p] = NULL;
-    }
+  drop_empty_fields(frame, lnr_eta);
   rc = sl_size_bins_split(&frame->volume, lnr_eta, max_fields, &frame->sizes, err);
 done:
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(lnr_eta[p]);

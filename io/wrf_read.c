@@ -379,6 +379,33 @@ static int keep_columns(sl_storm_frame *frame, wrf_levels *w, const size_t *l2, 
   return wrf_slab(w, xlong, -1, frame->column_lon, err);
 }
 
+/* Georeferencing (io/georef.c) on the whole grid: this time's XLAT/XLONG place it, so a moving
+ * nest sits where it was; the projection from the attributes is checked against them. The
+ * subset's columns are then the whole grid's, every stride-th from (i0, j0). An idealized run
+ * (no xlat) is a flat plane; --origin moves the world frame's tangent point. */
+static int wrf_georeference(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, int t,
+                            const sl_nc_var *xlat, const sl_nc_var *xlong, sl_georef *georef, sl_error *err)
+{
+  if (!xlat) {
+    sl_georef_flat(georef, info->nx, info->ny, info->dx, info->dy);
+    return SL_OK;
+  }
+  const size_t nfull = (size_t)info->nx * info->ny;
+  const sl_subset whole = {.stride = 1, .nx = info->nx, .ny = info->ny, .nz = 1};
+  double *lat_full = malloc(nfull * sizeof(double)), *lon_full = malloc(nfull * sizeof(double));
+  int rc = SL_OK;
+  if (!lat_full || !lon_full) rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  if (!rc) rc = sl_nc_read_slab(f, xlat, t, -1, &whole, lat_full, err);
+  if (!rc) rc = sl_nc_read_slab(f, xlong, t, -1, &whole, lon_full, err);
+  if (!rc)
+    rc = sl_georef_build(georef, info->map_proj, info->truelat1, info->truelat2, info->stand_lon, info->pole_lat,
+                         info->pole_lon, info->nx, info->ny, info->dx, info->dy, lat_full, lon_full, f->path, err);
+  free(lat_full);
+  free(lon_full);
+  if (!rc && opt && opt->has_origin) sl_georef_place(georef, opt->origin_lat, opt->origin_lon);
+  return rc;
+}
+
 static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
                     int nspecies, sl_storm_frame *frame, sl_error *err)
 {
@@ -438,27 +465,8 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1,
                                          sl_species_type_count(species, nspecies));
   if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
-  /* Georeferencing (io/georef.c) on the whole grid: this time's XLAT/XLONG place it, so a moving
-   * nest sits where it was; the projection from the attributes is checked against them. The
-   * subset's columns are then the whole grid's, every stride-th from (i0, j0). */
-  if (flat) {
-    sl_georef_flat(&frame->georef, info->nx, info->ny, info->dx, info->dy);
-  } else {
-    const size_t nfull = (size_t)info->nx * info->ny;
-    const sl_subset whole = {.stride = 1, .nx = info->nx, .ny = info->ny, .nz = 1};
-    double *lat_full = malloc(nfull * sizeof(double)), *lon_full = malloc(nfull * sizeof(double));
-    if (!lat_full || !lon_full) rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
-    if (!rc) rc = sl_nc_read_slab(f, &xlat, t, -1, &whole, lat_full, err);
-    if (!rc) rc = sl_nc_read_slab(f, &xlong, t, -1, &whole, lon_full, err);
-    if (!rc)
-      rc = sl_georef_build(&frame->georef, info->map_proj, info->truelat1, info->truelat2, info->stand_lon,
-                           info->pole_lat, info->pole_lon, info->nx, info->ny, info->dx, info->dy, lat_full, lon_full,
-                           path, err);
-    free(lat_full);
-    free(lon_full);
-    if (rc) goto done;
-  }
-  if (opt && opt->has_origin && !flat) sl_georef_place(&frame->georef, opt->origin_lat, opt->origin_lon);
+  if ((rc = wrf_georeference(f, info, opt, t, flat ? NULL : &xlat, flat ? NULL : &xlong, &frame->georef, err)))
+    goto done;
   const sl_georef *geo = &frame->georef;
   /* Ground distance between columns at the centre (DX over the map factor), ENU corner. */
   const double spacing_h[2] = {geo->ground_dx * s.stride, geo->ground_dy * s.stride};

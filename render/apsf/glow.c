@@ -266,11 +266,11 @@ void sl_glow_params_defaults(sl_glow_params *p)
   p->tolerance = 1e-4;
 }
 
-int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, sl_image *out,
-                  sl_glow_stats *stats, sl_error *err)
+/* The arguments sl_glow_apply can work with, or a one-line error. */
+static int glow_check(const sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, const sl_image *out,
+                      sl_error *err)
 {
   const int W = in->width, H = in->height;
-  const size_t npx = (size_t)W * H;
   if (W != ws->width || H != ws->height)
     return sl_fail(err, SL_ERR_ARG, "glow: workspace is for %d x %d, the image is %d x %d", ws->width, ws->height, W, H);
   if (out->width != W || out->height != H || !out->rgba)
@@ -284,38 +284,31 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
   if (!(p->fixed_T > 0.0) && !in->depth)
     return sl_fail(err, SL_ERR_ARG, "glow: the image has no depth and no fixed optical thickness was given");
   if (!(p->threshold > 0.0)) return sl_fail(err, SL_ERR_ARG, "glow: threshold must be > 0 (got %g)", p->threshold);
-  const double f = sl_glow_focal_px(H, p->fov_y_deg * SL_PI / 180.0);
+  return SL_OK;
+}
 
-  /* Optical distance per pixel: the view-axis depth times the secant of the pixel's angle
-   * from the axis is the distance to the camera. NAN marks pixels outside the medium. */
-  double *Tpx = malloc(sizeof(double) * npx);
-  float *planes = calloc(npx * 6, sizeof(float));
-  sl_glow_model *km = malloc(sizeof *km);
-  if (!Tpx || !planes || !km) {
-    free(Tpx);
-    free(planes);
-    free(km);
-    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d frame", W, H);
-  }
-  int rc = SL_OK, sources = 0;
+/* Optical distance per pixel into Tpx: the view-axis depth times the secant of the pixel's angle
+ * from the axis is the distance to the camera (f: the focal length in pixels). NAN marks pixels
+ * outside the medium. The sources' count and their least and largest T into st. */
+static int glow_optical_distances(const sl_glow_params *p, const sl_image *in, double f, double *Tpx,
+                                  sl_glow_stats *st, sl_error *err)
+{
+  const int W = in->width, H = in->height;
+  int sources = 0;
   double Tmin = INFINITY, Tmax = 0.0;
-  for (int y = 0; y < H && rc == SL_OK; ++y) {
+  for (int y = 0; y < H; ++y) {
     for (int x = 0; x < W; ++x) {
       const size_t i = (size_t)y * W + x;
       const float *px = in->rgba + 4 * i;
-      if (!isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2])) {
-        rc = sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has a non-finite colour", x, y);
-        break;
-      }
+      if (!isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2]))
+        return sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has a non-finite colour", x, y);
       double T;
       if (p->fixed_T > 0.0) {
         T = p->fixed_T;
       } else {
         const double z = in->depth[i];
-        if (isnan(z) || z < 0.0) {
-          rc = sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has depth %g (must be >= 0 or +inf)", x, y, z);
-          break;
-        }
+        if (isnan(z) || z < 0.0)
+          return sl_fail(err, SL_ERR_DATA, "glow: pixel (%d, %d) has depth %g (must be >= 0 or +inf)", x, y, z);
         const double u = (x + 0.5 - 0.5 * W) / f, v = (y + 0.5 - 0.5 * H) / f;
         double distance = isinf(z) ? (p->sky_distance > 0.0 ? p->sky_distance : NAN) : z * sqrt(1.0 + u * u + v * v);
         if (p->bank_depth > 0.0 && distance > p->bank_depth) distance = p->bank_depth;
@@ -329,27 +322,32 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       }
     }
   }
-  sl_glow_stats st;
-  memset(&st, 0, sizeof st);
-  st.sources = sources;
-  st.T_min = sources ? Tmin : 0.0;
-  st.T_max = Tmax;
-  float *src[3] = {planes, planes + npx, planes + 2 * npx};
-  float *glow[3] = {planes + 3 * npx, planes + 4 * npx, planes + 5 * npx};
-  /* Layers evenly spaced in log T; a source between two layers feeds both with linear weights
-   * in log T, so its glow changes continuously with its depth. */
-  /* At most n_layers, and none closer than 2 % in T: the PSF hardly changes within that. */
-  int L = sources ? 1 + (int)ceil(log(Tmax / Tmin) / log(1.02) - 1e-9) : 0;
+  st->sources = sources;
+  st->T_min = sources ? Tmin : 0.0;
+  st->T_max = Tmax;
+  return SL_OK;
+}
+
+/* The sources' glow, layer by layer: layers evenly spaced in log T, at most n_layers and none
+ * closer than 2 % in T (the PSF hardly changes within that); a source between two layers feeds
+ * both with linear weights in log T, so its glow changes continuously with its depth. The
+ * convolution is linear: the layers' products are summed in the frequency domain (ws->sum) and
+ * each channel goes back once into glow[c], so a layer costs one kernel and three forward
+ * transforms. src: three planes of scratch. */
+static int glow_layers(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, const double *Tpx, double f,
+                       float *src[3], float *glow[3], sl_glow_model *km, sl_glow_stats *st, sl_error *err)
+{
+  const size_t npx = (size_t)in->width * in->height;
+  const double Tmin = st->T_min, Tmax = st->T_max;
+  int L = st->sources ? 1 + (int)ceil(log(Tmax / Tmin) / log(1.02) - 1e-9) : 0;
   if (L > p->n_layers) L = p->n_layers;
-  const double lmin = sources ? log(Tmin) : 0.0, lstep = L > 1 ? (log(Tmax) - lmin) / (L - 1) : 1.0;
-  /* The convolution is linear: the layers' products are summed in the frequency domain and
-   * each channel goes back once, so a layer costs one kernel and three forward transforms. */
+  const double lmin = st->sources ? log(Tmin) : 0.0, lstep = L > 1 ? (log(Tmax) - lmin) / (L - 1) : 1.0;
   int used[3] = {0, 0, 0};
-  for (int c = 0; c < 3 && L > 0 && rc == SL_OK; ++c) {
+  for (int c = 0; c < 3 && L > 0; ++c) {
     if (!ws->sum[c]) ws->sum[c] = fftw_malloc(sizeof(fftw_complex) * (size_t)ws->ny * (ws->nx / 2 + 1));
-    if (!ws->sum[c]) rc = sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for %d x %d spectra", ws->nx, ws->ny);
+    if (!ws->sum[c]) return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for %d x %d spectra", ws->nx, ws->ny);
   }
-  for (int l = 0; l < L && rc == SL_OK; ++l) {
+  for (int l = 0; l < L; ++l) {
     int any = 0;
     for (size_t i = 0; i < npx; ++i) {
       const float *px = in->rgba + 4 * i;
@@ -366,7 +364,7 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
     double t_kernel = 0.0, t_fft = 0.0;
     const sl_apsf_medium *built = NULL;
     double built_scale = 0.0;
-    for (int c = 0; c < 3 && rc == SL_OK; ++c) {
+    for (int c = 0; c < 3; ++c) {
       const sl_apsf_medium *mc = p->channel_medium[c] ? p->channel_medium[c] : &p->medium;
       const double scale = channel_scale(p, c);
       double t0 = now_s();
@@ -374,8 +372,8 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       double t1 = now_s();
       t_fft += t1 - t0;
       if (mc != built || scale != built_scale) {
-        rc = sl_glow_model_build(km, mc, Tl * scale, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
-        if (rc) break;
+        const int rc = sl_glow_model_build(km, mc, Tl * scale, f, ws->rx, ws->ry, p->norm, p->tolerance, err);
+        if (rc) return rc;
         t0 = now_s();
         t_kernel += t0 - t1;
         kernel_spectrum_any(ws, NULL, km);
@@ -387,44 +385,70 @@ int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image
       t_fft += now_s() - t0;
       used[c] = 1;
     }
-    if (rc) break;
-    st.kernel_seconds += t_kernel;
-    st.convolve_seconds += t_fft;
-    st.layer_T[st.layers_used] = Tl;
-    st.layer_terms[st.layers_used] = km->terms;
-    ++st.layers_used;
+    st->kernel_seconds += t_kernel;
+    st->convolve_seconds += t_fft;
+    st->layer_T[st->layers_used] = Tl;
+    st->layer_terms[st->layers_used] = km->terms;
+    ++st->layers_used;
     if (p->progress) p->progress(p->progress_user, (l + 1.0) / (L + 1.0));
   }
-  if (rc == SL_OK) {
-    const double t0 = now_s();
-    for (int c = 0; c < 3; ++c)
-      if (used[c]) inverse_into(ws, ws->sum[c], glow[c]);
-    st.convolve_seconds += now_s() - t0;
+  const double t0 = now_s();
+  for (int c = 0; c < 3; ++c)
+    if (used[c]) inverse_into(ws, ws->sum[c], glow[c]);
+  st->convolve_seconds += now_s() - t0;
+  return SL_OK;
+}
+
+/* The frame: each pixel's own light attenuated by the medium in front of it, with that medium's
+ * airlight, plus the glow; a source's light is all in the glow (the kernel's Dirac included),
+ * and the medium in front of it still adds its airlight. */
+static void glow_compose(const sl_glow_params *p, const sl_image *in, const double *Tpx, float *glow[3], sl_image *out)
+{
+  const size_t npx = (size_t)in->width * in->height;
+  for (size_t i = 0; i < npx; ++i) {
+    const float *px = in->rgba + 4 * i;
+    float *o = out->rgba + 4 * i;
+    const double T = Tpx[i];
+    const int source = is_source(p, px, T, i);
+    const float a = px[3];
+    for (int c = 0; c < 3; ++c) {
+      double base = px[c];
+      if (source) base = p->attenuate ? sl_airlight_path(0.0, airlight_at(p, i, c), T * channel_scale(p, c)) : 0.0;
+      else if (T > 0.0 && p->attenuate) base = sl_airlight_path(px[c], airlight_at(p, i, c), T * channel_scale(p, c));
+      o[c] = (float)(base + glow[c][i]);
+    }
+    o[3] = a;
   }
-  if (rc == SL_OK) {
-    for (size_t i = 0; i < npx; ++i) {
-      const float *px = in->rgba + 4 * i;
-      float *o = out->rgba + 4 * i;
-      const double T = Tpx[i];
-      const int source = is_source(p, px, T, i);
-      const float a = px[3];
-      for (int c = 0; c < 3; ++c) {
-        double base = px[c];
-        if (source) {
-          /* All of it is in the glow, the unscattered beam included (the kernel's Dirac); the
-           * medium in front of the source still adds its airlight. */
-          base = p->attenuate ? sl_airlight_path(0.0, airlight_at(p, i, c), T * channel_scale(p, c)) : 0.0;
-        } else if (T > 0.0 && p->attenuate) {
-          base = sl_airlight_path(px[c], airlight_at(p, i, c), T * channel_scale(p, c));
-        }
-        o[c] = (float)(base + glow[c][i]);
-      }
-      o[3] = a;
-    }
-    if (out != in) {
-      if (out->depth && in->depth) memcpy(out->depth, in->depth, sizeof(float) * npx);
-      if (out->transparency && in->transparency) memcpy(out->transparency, in->transparency, sizeof(float) * npx);
-    }
+  if (out != in) {
+    if (out->depth && in->depth) memcpy(out->depth, in->depth, sizeof(float) * npx);
+    if (out->transparency && in->transparency) memcpy(out->transparency, in->transparency, sizeof(float) * npx);
+  }
+}
+
+int sl_glow_apply(sl_glow_workspace *ws, const sl_glow_params *p, const sl_image *in, sl_image *out,
+                  sl_glow_stats *stats, sl_error *err)
+{
+  int rc = glow_check(ws, p, in, out, err);
+  if (rc) return rc;
+  const size_t npx = (size_t)in->width * in->height;
+  const double f = sl_glow_focal_px(in->height, p->fov_y_deg * SL_PI / 180.0);
+  double *Tpx = malloc(sizeof(double) * npx);
+  float *planes = calloc(npx * 6, sizeof(float));
+  sl_glow_model *km = malloc(sizeof *km);
+  if (!Tpx || !planes || !km) {
+    free(Tpx);
+    free(planes);
+    free(km);
+    return sl_fail(err, SL_ERR_NOMEM, "glow: out of memory for a %d x %d frame", in->width, in->height);
+  }
+  sl_glow_stats st;
+  memset(&st, 0, sizeof st);
+  float *src[3] = {planes, planes + npx, planes + 2 * npx};
+  float *glow[3] = {planes + 3 * npx, planes + 4 * npx, planes + 5 * npx};
+  rc = glow_optical_distances(p, in, f, Tpx, &st, err);
+  if (!rc) rc = glow_layers(ws, p, in, Tpx, f, src, glow, km, &st, err);
+  if (!rc) {
+    glow_compose(p, in, Tpx, glow, out);
     if (p->progress) p->progress(p->progress_user, 1.0);
   }
   if (stats) *stats = st;

@@ -138,6 +138,87 @@ static double anisotropy_bound(const double *chi_trunc, int n_moments, double f,
   return s;
 }
 
+/* The highest order N: the given one, or the first n whose smooth part is isotropic within the
+ * tolerance and whose Dirac weight f^n is below it. */
+static int table_order(const optics_table_params *params, const double *chi, int L, double f)
+{
+  int N = params->max_order;
+  if (N <= 0) {
+    N = SL_OPTICS_MAX_ORDER;
+    for (int n = 1; n <= SL_OPTICS_MAX_ORDER; ++n)
+      if (pow_int(f, n) < params->isotropy_tolerance && anisotropy_bound(chi, L, f, n) < params->isotropy_tolerance) {
+        N = n;
+        break;
+      }
+  }
+  return N < 1 ? 1 : N;
+}
+
+/* Ams_n on the grid for n = 0..N into row[n J + j], and delta[n] = f^n:
+ * Ams_n = (f delta + Pt)^(*n) = f^n delta + n f^(n-1) Pt + sum_{k>=2} C(n,k) f^(n-k) Pt^(*k):
+ * the Dirac and the single-Pt term are exact on the grid (no Gibbs ringing at rainbows),
+ * the rest is smooth and summed from its Legendre coefficients
+ * q_l = (f + chit_l)^n - f^n - n f^(n-1) chit_l (Riley et al. 2004, eq. 20 in Legendre space). */
+static int ams_rows(const optics_grid *g, double f, const double *chi, int L, const double *ptrunc, int N,
+                    double *delta, double *row, sl_error *err)
+{
+  const int J = g->n_angles;
+  const size_t rows = (size_t)N + 1;
+  double *coef = malloc(sizeof(double) * rows * (size_t)L);
+  int *lmax = malloc(sizeof(int) * rows);
+  if (!coef || !lmax) {
+    free(coef), free(lmax);
+    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N);
+  }
+  for (size_t n = 0; n < rows; ++n) {
+    delta[n] = pow_int(f, (int)n);
+    lmax[n] = 0;
+    for (int l = 0; l < L; ++l) {
+      double q = 0.0;
+      if (n >= 2) q = pow_int(f + chi[l], (int)n) - delta[n] - (double)n * pow_int(f, (int)n - 1) * chi[l];
+      coef[n * L + l] = (2.0 * l + 1.0) / (4.0 * SL_PI) * q;
+      if (fabs(coef[n * L + l]) > 1e-12) lmax[n] = l + 1;
+    }
+  }
+  int lmax_all = 0;
+  for (size_t n = 0; n < rows; ++n) lmax_all = lmax[n] > lmax_all ? lmax[n] : lmax_all;
+  /* Coefficients transposed to [l][n] so that the inner loop over orders is contiguous. */
+  double *coef_ln = malloc(sizeof(double) * rows * (size_t)(lmax_all > 0 ? lmax_all : 1));
+  double *ra = malloc(sizeof(double) * (size_t)(lmax_all + 2)), *rb = malloc(sizeof(double) * (size_t)(lmax_all + 2));
+  if (!coef_ln || !ra || !rb) {
+    free(coef_ln), free(ra), free(rb), free(coef), free(lmax);
+    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N);
+  }
+  for (int l = 0; l < lmax_all; ++l)
+    for (size_t n = 0; n < rows; ++n) coef_ln[(size_t)l * rows + n] = l < lmax[n] ? coef[n * L + l] : 0.0;
+  for (int l = 2; l < lmax_all; ++l) {
+    ra[l] = (2.0 * l - 1.0) / l;
+    rb[l] = (l - 1.0) / l;
+  }
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int j = 0; j < J; ++j) {
+    const double x = g->mu[j];
+    double p0 = 1.0, p1 = x;
+    double acc[SL_OPTICS_MAX_ORDER + 1];
+    for (size_t n = 0; n < rows; ++n) acc[n] = coef[n * L];
+    for (int l = 1; l < lmax_all; ++l) {
+      double pl = x;
+      if (l >= 2) {
+        pl = ra[l] * x * p1 - rb[l] * p0;
+        p0 = p1;
+        p1 = pl;
+      }
+      const double *c = coef_ln + (size_t)l * rows;
+      for (size_t n = 2; n < rows; ++n) acc[n] += c[n] * pl;
+    }
+    row[j] = 0.0;
+    row[J + j] = ptrunc[j];
+    for (size_t n = 2; n < rows; ++n) row[n * J + j] = acc[n] + (double)n * pow_int(f, (int)n - 1) * ptrunc[j];
+  }
+  free(coef), free(lmax), free(coef_ln), free(ra), free(rb);
+  return SL_OK;
+}
+
 int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, const optics_table_params *params,
                           double wavelength_nm, sl_phase_table *out, sl_error *err)
 {
@@ -171,93 +252,25 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
     f = 0.0;
   }
   moments_of_grid_function(g, ptrunc, L, chi);
-
-  /* N: the given order, or the first n whose smooth part is isotropic within tol and whose
-   * Dirac weight f^n is below tol. */
-  int N = params->max_order;
-  if (N <= 0) {
-    N = SL_OPTICS_MAX_ORDER;
-    for (int n = 1; n <= SL_OPTICS_MAX_ORDER; ++n)
-      if (pow_int(f, n) < params->isotropy_tolerance &&
-          anisotropy_bound(chi, L, f, n) < params->isotropy_tolerance) {
-        N = n;
-        break;
-      }
-  }
-  if (N < 1) N = 1;
-
+  const int N = table_order(params, chi, L, f);
   const size_t rows = (size_t)N + 1;
   char *mem = optics_table_alloc(out, N, J, L);
-  double *coef = malloc(sizeof(double) * rows * (size_t)L);
   double *row = malloc(sizeof(double) * rows * (size_t)J);
-  int *lmax = malloc(sizeof(int) * rows);
-  if (!mem || !coef || !row || !lmax) {
-    free(mem), memset(out, 0, sizeof *out), free(coef), free(row), free(lmax), free(ptrunc), free(chi);
-    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N);
+  int rc = !mem || !row ? sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N) : SL_OK;
+  double *delta = mem ? (double *)out->delta : NULL;
+  if (!rc) rc = ams_rows(g, f, chi, L, ptrunc, N, delta, row, err);
+  if (rc) {
+    free(mem), memset(out, 0, sizeof *out), free(row), free(ptrunc), free(chi);
+    return rc;
   }
-  double *delta = (double *)out->delta, *forward = (double *)out->forward, *moments = (double *)out->moments;
+  double *forward = (double *)out->forward, *moments = (double *)out->moments;
   float *ams = (float *)out->ams;
-
-  /* Ams_n = (f delta + Pt)^(*n) = f^n delta + n f^(n-1) Pt + sum_{k>=2} C(n,k) f^(n-k) Pt^(*k):
-   * the Dirac and the single-Pt term are exact on the grid (no Gibbs ringing at rainbows),
-   * the rest is smooth and summed from its Legendre coefficients
-   * q_l = (f + chit_l)^n - f^n - n f^(n-1) chit_l (Riley et al. 2004, eq. 20 in Legendre space). */
-  for (size_t n = 0; n < rows; ++n) {
-    delta[n] = pow_int(f, (int)n);
-    lmax[n] = 0;
-    for (int l = 0; l < L; ++l) {
-      double q = 0.0;
-      if (n >= 2) q = pow_int(f + chi[l], (int)n) - delta[n] - (double)n * pow_int(f, (int)n - 1) * chi[l];
-      coef[n * L + l] = (2.0 * l + 1.0) / (4.0 * SL_PI) * q;
-      if (fabs(coef[n * L + l]) > 1e-12) lmax[n] = l + 1;
-    }
-  }
-  int lmax_all = 0;
-  for (size_t n = 0; n < rows; ++n) lmax_all = lmax[n] > lmax_all ? lmax[n] : lmax_all;
-  /* Coefficients transposed to [l][n] so that the inner loop over orders is contiguous. */
-  double *coef_ln = malloc(sizeof(double) * rows * (size_t)(lmax_all > 0 ? lmax_all : 1));
-  double *ra = malloc(sizeof(double) * (size_t)(lmax_all + 2)), *rb = malloc(sizeof(double) * (size_t)(lmax_all + 2));
-  if (!coef_ln || !ra || !rb) {
-    free(coef_ln), free(ra), free(rb);
-    free(mem), memset(out, 0, sizeof *out), free(coef), free(row), free(lmax), free(ptrunc), free(chi);
-    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d orders", N);
-  }
-  for (int l = 0; l < lmax_all; ++l)
-    for (size_t n = 0; n < rows; ++n) coef_ln[(size_t)l * rows + n] = l < lmax[n] ? coef[n * L + l] : 0.0;
-  for (int l = 2; l < lmax_all; ++l) {
-    ra[l] = (2.0 * l - 1.0) / l;
-    rb[l] = (l - 1.0) / l;
-  }
-#pragma omp parallel for schedule(dynamic, 16)
-  for (int j = 0; j < J; ++j) {
-    const double x = g->mu[j];
-    double p0 = 1.0, p1 = x;
-    double acc[SL_OPTICS_MAX_ORDER + 1];
-    for (size_t n = 0; n < rows; ++n) acc[n] = coef[n * L];
-    for (int l = 1; l < lmax_all; ++l) {
-      double pl = x;
-      if (l >= 2) {
-        pl = ra[l] * x * p1 - rb[l] * p0;
-        p0 = p1;
-        p1 = pl;
-      }
-      const double *c = coef_ln + (size_t)l * rows;
-      for (size_t n = 2; n < rows; ++n) acc[n] += c[n] * pl;
-    }
-    row[j] = 0.0;
-    row[J + j] = ptrunc[j];
-    for (size_t n = 2; n < rows; ++n) row[n * J + j] = acc[n] + (double)n * pow_int(f, (int)n - 1) * ptrunc[j];
-  }
   /* Ringing of the truncated series can dip below zero where a distribution is nearly empty:
    * clamp, then renormalise every row to exactly 1 - f^n under the grid's quadrature. */
-  double worst_negative = 0.0;
   for (size_t n = 1; n < rows; ++n) {
     double *r = row + n * J;
     for (int j = 0; j < J; ++j)
-      if (r[j] < 0.0) {
-        worst_negative = fmin(worst_negative, r[j]);
-        r[j] = 0.0;
-      }
+      if (r[j] < 0.0) r[j] = 0.0;
     const double target = 1.0 - delta[n], have = optics_grid_integral(g, r);
     const double scale = have > 0.0 ? target / have : 0.0;
     double fwd = 0.0;
@@ -268,7 +281,6 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
     forward[n] = delta[n] + fwd;
   }
   forward[0] = 1.0;
-  (void)worst_negative;
   for (int l = 0; l < L; ++l) moments[l] = f + chi[l];
   moments[0] = 1.0;
 
@@ -279,7 +291,7 @@ int optics_table_from_raw(const optics_grid *g, const optics_raw_phase *raw, con
   out->truncated_fraction = f;
   out->step_rad = g->step_rad;
   out->inv_step_rad = 1.0 / g->step_rad;
-  free(coef), free(row), free(lmax), free(ptrunc), free(chi), free(coef_ln), free(ra), free(rb);
+  free(row), free(ptrunc), free(chi);
   return SL_OK;
 }
 

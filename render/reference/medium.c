@@ -253,6 +253,71 @@ void sl_ref_medium_destroy(sl_ref_medium *m)
   free(m);
 }
 
+/* Majorant cells of `block` samples; a cell's bound is the largest sample that trilinear
+ * interpolation anywhere inside it can reach (one sample beyond its faces), so it also bounds
+ * the cell-constant interpolation. */
+static int build_majorants(sl_ref_medium *m, const sl_ref_medium_desc *d, sl_error *err)
+{
+  m->block = d->majorant_block > 0 ? d->majorant_block : 8;
+  for (int a = 0; a < 3; ++a) {
+    m->nb[a] = (d->n[a] + m->block - 1) / m->block;
+    m->block_size[a] = m->block * d->spacing[a];
+  }
+  const size_t nmaj = (size_t)m->nb[0] * m->nb[1] * m->nb[2];
+  for (int w = 0; w < m->nw; ++w) {
+    m->majorant[w] = calloc(nmaj, sizeof(float));
+    if (!m->majorant[w]) return sl_fail(err, SL_ERR_NOMEM, "reference: out of memory for the majorant grid");
+    for (int bk = 0; bk < m->nb[2]; ++bk)
+      for (int bj = 0; bj < m->nb[1]; ++bj)
+        for (int bi = 0; bi < m->nb[0]; ++bi) {
+          const int b[3] = {bi, bj, bk};
+          int lo[3], hi[3];
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = b[a] * m->block - 1;
+            hi[a] = (b[a] + 1) * m->block;
+            lo[a] = lo[a] < 0 ? 0 : lo[a];
+            hi[a] = hi[a] > d->n[a] - 1 ? d->n[a] - 1 : hi[a];
+          }
+          float mx = 0.0f;
+          for (int k = lo[2]; k <= hi[2]; ++k)
+            for (int j = lo[1]; j <= hi[1]; ++j)
+              for (int i = lo[0]; i <= hi[0]; ++i) {
+                const float v = m->extinction[w][((size_t)k * d->n[1] + j) * d->n[0] + i];
+                if (v > mx) mx = v;
+              }
+          /* Interpolation in double of float samples can exceed the largest by an ulp. */
+          m->majorant[w][((size_t)bk * m->nb[1] + bj) * m->nb[0] + bi] = mx * (1.0f + 1e-6f);
+        }
+  }
+  return SL_OK;
+}
+
+/* The renderer's midplane anchor: the box around samples with extinction (first wavelength),
+ * one cell of margin, as sl_renderer_content_bounds. */
+static void content_box(sl_ref_medium *m, const sl_ref_medium_desc *d)
+{
+  int mn[3] = {d->n[0], d->n[1], d->n[2]}, mx[3] = {-1, -1, -1};
+  for (int k = 0; k < d->n[2]; ++k)
+    for (int j = 0; j < d->n[1]; ++j)
+      for (int i = 0; i < d->n[0]; ++i) {
+        if (!(m->extinction[0][((size_t)k * d->n[1] + j) * d->n[0] + i] > 0.0f)) continue;
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          if (idx[a] < mn[a]) mn[a] = idx[a];
+          if (idx[a] > mx[a]) mx[a] = idx[a];
+        }
+      }
+  for (int a = 0; a < 3; ++a) {
+    double lo = m->lo[a], hi = m->hi[a];
+    if (mx[0] >= 0) {
+      lo = fmax(m->lo[a], d->origin[a] + (mn[a] - 1) * d->spacing[a]);
+      hi = fmin(m->hi[a], d->origin[a] + (mx[a] + 1) * d->spacing[a]);
+    }
+    m->content_lo[a] = lo, m->content_hi[a] = hi;
+    m->content_center[a] = 0.5 * (lo + hi);
+  }
+}
+
 sl_ref_medium *sl_ref_medium_create(const sl_ref_medium_desc *d, sl_error *err)
 {
   if (!d || d->n_wavelengths < 1 || d->n_wavelengths > SL_REF_MAX_WAVELENGTHS) {
@@ -328,69 +393,11 @@ sl_ref_medium *sl_ref_medium_create(const sl_ref_medium_desc *d, sl_error *err)
     sl_grid_view_init(&m->extinction_view[w], m->extinction[w], &shape);
   }
 
-  /* Majorant cells of `block` samples; a cell's bound is the largest sample that trilinear
-   * interpolation anywhere inside it can reach (one sample beyond its faces), so it also bounds
-   * the cell-constant interpolation. */
-  m->block = d->majorant_block > 0 ? d->majorant_block : 8;
-  for (int a = 0; a < 3; ++a) {
-    m->nb[a] = (d->n[a] + m->block - 1) / m->block;
-    m->block_size[a] = m->block * d->spacing[a];
+  if (build_majorants(m, d, err)) {
+    sl_ref_medium_destroy(m);
+    return NULL;
   }
-  const size_t nmaj = (size_t)m->nb[0] * m->nb[1] * m->nb[2];
-  for (int w = 0; w < m->nw; ++w) {
-    m->majorant[w] = calloc(nmaj, sizeof(float));
-    if (!m->majorant[w]) {
-      sl_fail(err, SL_ERR_NOMEM, "reference: out of memory for the majorant grid");
-      sl_ref_medium_destroy(m);
-      return NULL;
-    }
-    for (int bk = 0; bk < m->nb[2]; ++bk)
-      for (int bj = 0; bj < m->nb[1]; ++bj)
-        for (int bi = 0; bi < m->nb[0]; ++bi) {
-          const int b[3] = {bi, bj, bk};
-          int lo[3], hi[3];
-          for (int a = 0; a < 3; ++a) {
-            lo[a] = b[a] * m->block - 1;
-            hi[a] = (b[a] + 1) * m->block;
-            lo[a] = lo[a] < 0 ? 0 : lo[a];
-            hi[a] = hi[a] > d->n[a] - 1 ? d->n[a] - 1 : hi[a];
-          }
-          float mx = 0.0f;
-          for (int k = lo[2]; k <= hi[2]; ++k)
-            for (int j = lo[1]; j <= hi[1]; ++j)
-              for (int i = lo[0]; i <= hi[0]; ++i) {
-                const float v = m->extinction[w][((size_t)k * d->n[1] + j) * d->n[0] + i];
-                if (v > mx) mx = v;
-              }
-          /* Interpolation in double of float samples can exceed the largest by an ulp. */
-          m->majorant[w][((size_t)bk * m->nb[1] + bj) * m->nb[0] + bi] = mx * (1.0f + 1e-6f);
-        }
-  }
-
-  /* The renderer's midplane anchor: the box around samples with extinction (first wavelength),
-   * one cell of margin, as sl_renderer_content_bounds. */
-  {
-    int mn[3] = {d->n[0], d->n[1], d->n[2]}, mx[3] = {-1, -1, -1};
-    for (int k = 0; k < d->n[2]; ++k)
-      for (int j = 0; j < d->n[1]; ++j)
-        for (int i = 0; i < d->n[0]; ++i) {
-          if (!(m->extinction[0][((size_t)k * d->n[1] + j) * d->n[0] + i] > 0.0f)) continue;
-          const int idx[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) {
-            if (idx[a] < mn[a]) mn[a] = idx[a];
-            if (idx[a] > mx[a]) mx[a] = idx[a];
-          }
-        }
-    for (int a = 0; a < 3; ++a) {
-      double lo = m->lo[a], hi = m->hi[a];
-      if (mx[0] >= 0) {
-        lo = fmax(m->lo[a], d->origin[a] + (mn[a] - 1) * d->spacing[a]);
-        hi = fmin(m->hi[a], d->origin[a] + (mx[a] + 1) * d->spacing[a]);
-      }
-      m->content_lo[a] = lo, m->content_hi[a] = hi;
-      m->content_center[a] = 0.5 * (lo + hi);
-    }
-  }
+  content_box(m, d);
   return m;
 }
 
