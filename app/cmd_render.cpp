@@ -126,28 +126,29 @@ static int render_main(int argc, char **argv)
     char tmp[4096];
     if (sl_temp_name(f.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
   }
-  long width, height, threads, time_index;
-  double fov, exposure, view_az, view_el;
-  if (!o.integer("width", &width, 1, 16384) || !o.integer("height", &height, 1, 16384) ||
-      !o.integer("threads", &threads, 0, 1024) || !o.integer("time", &time_index, 0, SL_MAX_TIMES - 1) ||
-      !o.number("fov", &fov) || !o.number("exposure", &exposure) || !o.number("view-azimuth", &view_az) ||
-      !o.number("view-elevation", &view_el))
-    return sl::fail(cmd, o.error(), 2);
-  if (!(fov > 0 && fov < 170)) return sl::fail(cmd, "--fov must be in (0, 170) degrees", 2);
+  // The render options as typed settings (scene/sl_settings.h): the table's ranges and the
+  // checks between options; RenderSession::prepare builds the scene from the same.
+  std::unique_ptr<sl_settings> settings(new sl_settings);
+  {
+    std::string why;
+    if (!sl::settings_from_options(o, path, settings.get(), &why)) return sl::fail(cmd, why, 2);
+    if (sl_settings_check(settings.get(), &err)) return sl::fail(cmd, err.message, 2);
+  }
   // Overlay lines are rasterized by VTK, depth-tested against the terrain mesh; the CPU composite
   // has no line rasterizer, so it would silently drop them.
   if (o.has("cpu-composite"))
     for (const char *layer : {"coastlines", "borders", "graticule", "domain-outline", "scale-bar"})
-      if (o.has(layer))
+      if (sl_settings_given(settings.get(), layer))
         return sl::fail(cmd,
                         std::string("--cpu-composite draws no overlay lines (--") + layer +
                             "): VTK draws them; composite through VTK (xvfb-run -a) or leave the overlays off",
                         2);
-  double fog_km, fog_sky_km;
-  if (!o.number("fog-visibility-km", &fog_km) || fog_km < 0 || !o.number("fog-depth-km", &fog_sky_km) || fog_sky_km <= 0)
-    return sl::fail(cmd, "--fog-visibility-km must be >= 0 and --fog-depth-km > 0", 2);
-  const bool haze = o.str("fog-type") == "haze";
-  if (!haze && o.str("fog-type") != "fog") return sl::fail(cmd, "--fog-type must be fog or haze", 2);
+  const int threads = settings->threads;
+  const long time_index = settings->time_index;
+  const double exposure = settings->exposure, fog_km = settings->fog_visibility_km;
+  const double fog_sky_km = settings->fog_depth_km;
+  const bool haze = settings->fog_haze;
+  if (!(fog_sky_km > 0)) return sl::fail(cmd, "--fog-depth-km must be > 0", 2);
   if (threads > 0) omp_set_num_threads((int)threads);
   const bool json = o.has("json");
   const bool quiet = o.has("quiet") || json;
@@ -321,7 +322,7 @@ static int render_main(int argc, char **argv)
     }
     for (const std::string &f : outs) {
       std::string why;
-      if (!sl::write_frame(f, cam, frame_img, scene.sun_direction, scene_text, o.has("float"), (float)exposure, &why)) {
+      if (!sl::write_frame(f, cam, frame_img, scene.sun_direction, scene_text, settings->float_exr, (float)exposure, &why)) {
         rc = sl::fail(cmd, why);
         goto done;
       }
