@@ -175,7 +175,7 @@ static int render_main(int argc, char **argv)
   std::unique_ptr<sl::TerrainScene> terrain;
   {
     std::string why;
-    if (!sl::read_map_options(o, &map_layers, &why)) return sl::fail(cmd, why, 2);
+    if (!sl::read_map_options(*settings, &map_layers, &why)) return sl::fail(cmd, why, 2);
     if (map_layers.any()) {
       terrain.reset(new sl::TerrainScene);
       if (!terrain->build(frame, map_layers, scene, &why) || !terrain->prepare_view(cam, &why))
@@ -195,7 +195,7 @@ static int render_main(int argc, char **argv)
   sl::NightScene night;
   {
     std::string why;
-    if (!sl::read_night_scene(o, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why))
+    if (!sl::read_night_scene(*settings, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why))
       return sl::fail(cmd, why, 2);
   }
 

@@ -11,32 +11,18 @@
 
 namespace sl {
 
-bool read_night_scene(Options &o, const sl_storm_frame &frame, NightScene *night, std::string *why)
+bool read_night_scene(const sl_settings &s, const sl_storm_frame &frame, NightScene *night, std::string *why)
 {
-  double luminance;
-  if (!o.number("night-sky-luminance", &luminance) || !(luminance >= 0.0) || !std::isfinite(luminance)) {
-    *why = "--night-sky-luminance must be a luminance >= 0 cd/m^2";
-    return false;
-  }
+  // Ranges and the lamps' count are checked by the option table (scene/settings.c).
   const double white[3] = {1, 1, 1};
-  sl_photometric_to_render(luminance, white, night->night_sky);
-  if (!o.has("lights-count")) return true;
-  std::vector<double> count, center, color;
+  sl_photometric_to_render(s.night_sky_luminance, white, night->night_sky);
+  if (!sl_settings_given(&s, "lights-count")) return true;
   sl_light_grid g{};
-  if (!o.list("lights-count", &count) || count.size() != 2 || !(count[0] >= 1 && count[1] >= 1) ||
-      count[0] != std::floor(count[0]) || count[1] != std::floor(count[1]) || count[0] * count[1] > 1e6) {
-    *why = "--lights-count needs two whole numbers NX,NY >= 1 (at most 1e6 lamps)";
-    return false;
-  }
-  if (!o.list("lights-center", &center) || center.size() != 2 || !o.list("lights-color", &color) || color.size() != 3 ||
-      !o.number("lights-spacing", &g.spacing) || !o.number("lights-height", &g.height) ||
-      !o.number("lights-jitter", &g.jitter) || !o.number("lights-intensity-cd", &g.intensity_cd)) {
-    *why = o.error().empty() ? "--lights-center needs X,Y and --lights-color R,G,B" : o.error();
-    return false;
-  }
-  g.count[0] = (int)count[0], g.count[1] = (int)count[1];
-  g.center[0] = center[0], g.center[1] = center[1];
-  for (int c = 0; c < 3; ++c) g.color[c] = color[c];
+  g.spacing = s.lights_spacing, g.height = s.lights_height, g.jitter = s.lights_jitter;
+  g.intensity_cd = s.lights_intensity_cd;
+  g.count[0] = s.lights_count[0], g.count[1] = s.lights_count[1];
+  g.center[0] = s.lights_center[0], g.center[1] = s.lights_center[1];
+  for (int c = 0; c < 3; ++c) g.color[c] = s.lights_color[c];
   g.seed = 1;
   night->lights.resize((size_t)g.count[0] * g.count[1]);
   sl_error err{};

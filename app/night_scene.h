@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "sl_point_lights.h"
+#include "sl_settings.h"
 #include "sl_sky.h"
 #ifndef SL_WITHOUT_APSF
 #include "sl_apsf.h"
@@ -28,7 +29,7 @@ struct NightScene {
 };
 
 // Reads the night options and builds the lamps on the frame's ground (HGT). One-line error in why.
-bool read_night_scene(Options &o, const sl_storm_frame &frame, NightScene *night, std::string *why);
+bool read_night_scene(const sl_settings &s, const sl_storm_frame &frame, NightScene *night, std::string *why);
 
 // Projects the lamps through cam and stops cam's eye rays at them (merging any opaque distance cam
 // already has, e.g. the terrain's); cam.opaque_distance then points into night.

@@ -27,22 +27,14 @@
 
 namespace sl {
 
-bool read_map_options(Options &o, MapLayers *m, std::string *error)
+bool read_map_options(const sl_settings &s, MapLayers *m, std::string *error)
 {
-  m->terrain = o.has("terrain");
-  m->coastlines = o.has("coastlines");
-  m->borders = o.has("borders");
-  m->graticule = o.has("graticule");
-  m->outline = o.has("domain-outline");
-  m->scale_bar = o.has("scale-bar");
-  if (o.has("terrain-albedo") && (!o.number("terrain-albedo", &m->albedo) || !(m->albedo >= 0 && m->albedo <= 1))) {
-    *error = "--terrain-albedo must be a number in [0, 1]";
-    return false;
-  }
-  if (!o.number("graticule-step", &m->graticule_step) || !(m->graticule_step >= 0 && m->graticule_step <= 90)) {
-    *error = "--graticule-step must be in [0, 90] degrees";
-    return false;
-  }
+  // Ranges are checked by the option table (scene/settings.c).
+  (void)error;
+  m->terrain = s.terrain, m->coastlines = s.coastlines, m->borders = s.borders, m->graticule = s.graticule;
+  m->outline = s.domain_outline, m->scale_bar = s.scale_bar;
+  if (sl_settings_given(&s, "terrain-albedo")) m->albedo = s.terrain_albedo;
+  m->graticule_step = s.graticule_step;
   return true;
 }
 

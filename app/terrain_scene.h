@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "sl_settings.h"
+
 #include "sl_renderer.h"
 #include "sl_storm.h"
 #include "sl_terrain.h"
@@ -28,7 +30,7 @@ struct MapLayers {
 
 // The layer options are declared by declare_map_options (app/scene.h), with the scene's others.
 // Reads them; false with a one-line error.
-bool read_map_options(Options &o, MapLayers *layers, std::string *error);
+bool read_map_options(const sl_settings &s, MapLayers *layers, std::string *error);
 
 // Latitude/longitude to fractional column indices by inverting the bilinear interpolation of the
 // file's XLAT/XLONG (Newton's method from the nearest column).
