@@ -358,10 +358,7 @@ int sl_cmd_validate(int argc, char **argv)
     sl_scene_camera(&rs.settings, lo, hi, &cam);
   }
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
-  if (base_scene.atmosphere && base_scene.atmosphere->ground_radius > 0.0) {
-    sl_camera_ground_distance(&cam, base_scene.atmosphere, ground.data());
-    cam.opaque_distance = ground.data();
-  }
+  if (sl_scene_ground_opaque(&base_scene, &cam, ground.data())) cam.opaque_distance = ground.data();
   const size_t np = (size_t)cam.width * cam.height;
 
   // The reference: read, or rendered now at the scene's wavelengths.

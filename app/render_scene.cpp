@@ -25,16 +25,13 @@ bool load_render_scene(const std::string &path, const std::vector<std::string> &
   Options &o = s->options;
   if (!o.parse((int)cargv.size(), cargv.data())) return failed(o.error());
   if (o.positional().size() != 1) return failed("the scene names no \"data\" file");
-  s->data = o.positional()[0];
   sl_error err{};
-  if (!settings_from_options(o, s->data, &s->settings, why)) return failed(*why);
+  if (!settings_from_options(o, o.positional()[0], &s->settings, why)) return failed(*why);
   if (sl_settings_check(&s->settings, &err) || sl_scene_load(&s->settings, 0, &s->built, &err)) return failed(err.message);
-  s->time_index = s->settings.time_index;
   s->sun_elevation_deg = s->built.sun_elevation_deg;
   // Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
   s->sun_azimuth_deg = sl_georef_grid_azimuth(&s->frame.georef, s->built.sun_azimuth_deg);
   s->spectral = s->settings.spectral;
-  s->flat_earth = s->settings.flat_earth;
   s->with_air = !s->settings.no_atmosphere;
   for (int c = 0; c < 3; ++c) s->sky[c] = s->settings.sky[c];
   return true;

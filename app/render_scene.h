@@ -21,10 +21,8 @@ struct RenderScene {
   sl_built_scene built{};             // the storm and its sun (sl_scene_load): no air, tables or renderer
   sl_storm_frame &frame = built.frame;
   int &have_frame = built.have_frame;
-  std::string data;                   // the storm file
-  long time_index = 0;
   double sun_elevation_deg = 0, sun_azimuth_deg = 0;  // the sun's azimuth in the grid's axes
-  bool with_air = true, flat_earth = false, spectral = false;
+  bool with_air = true, spectral = false;
   double sky[3] = {0, 0, 0};  // without air: the constant background
   RenderScene() = default;
   RenderScene(const RenderScene &) = delete;

@@ -23,8 +23,6 @@ bool in_list(const char *name, const char *const *names)
 
 const char *const kLoadOptions[] = {"field", "particles", "max-fields", "droplet-number", "region",
                                     "levels", "stride", "max-memory", nullptr};
-const char *const kMapOptions[] = {"terrain", "terrain-albedo", "coastlines", "borders", "graticule",
-                                   "graticule-step", "domain-outline", "scale-bar", nullptr};
 
 }  // namespace
 
@@ -32,12 +30,6 @@ void declare_load_options(Options &o)
 {
   for (int i = 0; i < sl_settings_option_count; ++i)
     if (in_list(sl_settings_options[i].name, kLoadOptions)) declare_from_table(o, sl_settings_options[i]);
-}
-
-void declare_map_options(Options &o)
-{
-  for (int i = 0; i < sl_settings_option_count; ++i)
-    if (in_list(sl_settings_options[i].name, kMapOptions)) declare_from_table(o, sl_settings_options[i]);
 }
 
 void declare_render_options(Options &o)

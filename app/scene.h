@@ -17,8 +17,6 @@ void declare_render_options(Options &o);
 // The settings the parsed options give: the table's defaults, each option given set through
 // sl_settings_set (one line naming the option when a value is bad), and `data` as the storm file.
 bool settings_from_options(Options &o, const std::string &data, sl_settings *s, std::string *why);
-// The terrain and map-layer options (read by read_map_options, app/terrain_scene.h).
-void declare_map_options(Options &o);
 
 // Reads a scene file into render arguments (sl_scene_json_args): "data" becomes the positional
 // FILE (relative paths are taken relative to the scene file's folder), every other key

@@ -28,7 +28,7 @@ struct MapLayers {
   bool any() const { return terrain || coastlines || borders || graticule || outline || scale_bar; }
 };
 
-// The layer options are declared by declare_map_options (app/scene.h), with the scene's others.
+// The layer options come from the option table (sl_settings_options) with the scene's others.
 // Reads them; false with a one-line error.
 bool read_map_options(const sl_settings &s, MapLayers *layers, std::string *error);
 
