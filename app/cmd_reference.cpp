@@ -16,7 +16,8 @@
 
 #include "cli.h"
 #include "commands.h"
-#include "render_scene.h"
+#include "scene.h"
+#include "sl_georef.h"
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
@@ -280,33 +281,40 @@ void parse_point(const cJSON *root, Scene *s)
   s->point.photons = (long)number(p, "photons", 100000);
 }
 
-// A `stormlight render` scene (docs/SCENES.md: a JSON object of render's options) drawn by the
-// reference with render's defaults (app/render_scene.h), so that `validate` gives both renderers one
-// scene: the same storm, sun, air and camera. Render's own settings (lighting, slices, ...) are
-// accepted and unused.
+// A `stormlight render` scene (docs/SCENES.md: a JSON object of render's options) read as render
+// reads it (sl_settings_from_scene) and drawn by the reference with the storm, sun, air and camera
+// render's sl_scene_build gives it, so that `validate` gives both renderers one scene. Render's own
+// settings (lighting, slices, ...) are accepted and unused.
 void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool quiet)
 {
-  sl::RenderScene rs;
-  std::string why;
-  if (!sl::load_render_scene(path, {}, &rs, &why)) throw SceneError{why.substr(path.size() + 2)};
-  s->frame = rs.frame;  // the frame moves to the Scene, which frees it
+  std::unique_ptr<sl_settings> settings(new sl_settings);
+  if (sl_settings_from_scene(settings.get(), path.c_str(), 0, nullptr, err)) {
+    const std::string message = err->message, named = path + ": ";  // load_scene names the file
+    throw SceneError{message.compare(0, named.size(), named) ? message : message.substr(named.size())};
+  }
+  sl::BuiltScenePtr built(new sl_built_scene{});
+  if (sl_scene_load(settings.get(), 0, built.get(), err)) throw SceneError{err->message};
+  s->frame = built->frame;  // the frame moves to the Scene, which frees it
   s->have_frame = true;
-  rs.have_frame = false;
-  s->sun_zenith = 90.0 - rs.sun_elevation_deg, s->sun_azimuth = rs.sun_azimuth_deg;
+  built->have_frame = 0;
+  // The sun's compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md).
+  s->sun_zenith = 90.0 - built->sun_elevation_deg;
+  s->sun_azimuth = sl_georef_grid_azimuth(&s->frame.georef, built->sun_azimuth_deg);
+  const bool spectral = settings->spectral;
   sl::Progress progress("tables", !quiet);
-  s->optics.reset(sl_scene_tables(&s->frame.volume, rs.spectral, 0, progress_hook, &progress, err));
+  s->optics.reset(sl_scene_tables(&s->frame.volume, spectral, 0, progress_hook, &progress, err));
   progress.done();
   if (!s->optics) throw SceneError{std::string("particle tables: ") + err->message};
   s->medium = sl_ref_medium_from_volume(&s->frame.volume, s->optics.get(), err);
   if (!s->medium) throw SceneError{err->message};
-  s->with_air = rs.with_air;
+  s->with_air = !settings->no_atmosphere;
   // The air as render's (sl_scene_air): its air mass, and the round ground under --curvature drop.
-  if (s->with_air && sl_scene_air(&rs.settings, rs.spectral, &s->atmosphere, err)) throw SceneError{err->message};
+  if (s->with_air && sl_scene_air(settings.get(), spectral, &s->atmosphere, err)) throw SceneError{err->message};
   if (!s->with_air)
-    for (int c = 0; c < 3; ++c) s->sky[c] = rs.sky[c];
+    for (int c = 0; c < 3; ++c) s->sky[c] = settings->sky[c];
   double lo[3], hi[3];
   sl_ref_medium_content_bounds(s->medium, lo, hi);
-  sl_scene_camera(&rs.settings, lo, hi, &s->camera);
+  sl_scene_camera(settings.get(), lo, hi, &s->camera);
   s->have_camera = true;
   s->kind = "storm";
 }

@@ -19,7 +19,6 @@
 #include "cli.h"
 #include "commands.h"
 #include "composite_pass.h"
-#include "render_scene.h"
 #include "render_session.h"
 #include "render_series.h"
 #include "gpu_render.h"
@@ -127,7 +126,7 @@ static int render_main(int argc, char **argv)
     if (sl_temp_name(f.c_str(), tmp, sizeof tmp, &err)) return sl::fail(cmd, err.message);
   }
   // The render options as typed settings (scene/sl_settings.h): the table's ranges and the
-  // checks between options; RenderSession::prepare builds the scene from the same.
+  // checks between options; RenderSession::prepare builds the scene from them.
   std::unique_ptr<sl_settings> settings(new sl_settings);
   {
     std::string why;
@@ -155,10 +154,11 @@ static int render_main(int argc, char **argv)
 
   // The storm, the sun, the air, the tables and the renderer (app/render_session.h).
   sl::RenderSession session;
+  session.for_gpu = o.has("gpu");
   {
     std::string why;
     int exit_code = 1;
-    if (!session.prepare(o, path, quiet, &why, &exit_code)) return sl::fail(cmd, why, exit_code);
+    if (!session.prepare(*settings, quiet, &why, &exit_code)) return sl::fail(cmd, why, exit_code);
   }
   const double t_load = session.load_seconds;
   const std::string &sun_note = session.sun_note;

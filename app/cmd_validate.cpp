@@ -35,7 +35,7 @@
 
 #include "cli.h"
 #include "commands.h"
-#include "render_scene.h"
+#include "scene.h"
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
@@ -137,7 +137,7 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
     add("max order", "max order " + std::to_string(n), [n](Setting &s) { s.max_order = n; });
   add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
   add("lighting", "low albedo", [](Setting &s) { s.lighting = SL_LIGHTING_LOW_ALBEDO; });
-  // A scene without air (no-atmosphere) is rgb only (render_scene), so it has no spectral variant.
+  // A scene without air (no-atmosphere) is rgb only (sl_settings_check), so it has no spectral variant.
   if (spectral_allowed)
     add("wavelengths", base.spectral ? "3 wavelengths" : "16 wavelengths", [](Setting &s) { s.spectral = !s.spectral; });
   for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
@@ -303,31 +303,39 @@ int sl_cmd_validate(int argc, char **argv)
   std::string why;
   if (want_plot && !sl::have_display(&why)) return sl::fail(kCmd, why + " (or pass --no-plot)", 2);
   const std::string dir = o.str("out"), scene_path = o.str("scene");
+  // The scene as render reads it (sl_settings_from_scene), at the size asked for; its storm and sun
+  // as render loads and places them (sl_scene_load).
   std::vector<std::string> overrides;
   for (const char *k : {"width", "height"})
     if (o.has(k)) overrides.push_back(std::string("--") + k), overrides.push_back(o.str(k));
-  sl::RenderScene rs;
-  if (!sl::load_render_scene(scene_path, overrides, &rs, &why)) return sl::fail(kCmd, why, 2);
+  std::vector<char *> override_argv;
+  for (std::string &a : overrides) override_argv.push_back(&a[0]);
+  std::unique_ptr<sl_settings> settings(new sl_settings);
+  sl::BuiltScenePtr built(new sl_built_scene{});
+  sl_error err{};
+  if (sl_settings_from_scene(settings.get(), scene_path.c_str(), (int)override_argv.size(), override_argv.data(), &err))
+    return sl::fail(kCmd, err.message, 2);
+  if (sl_scene_load(settings.get(), 0, built.get(), &err)) return sl::fail(kCmd, scene_path + ": " + err.message, 2);
+  const bool with_air = !settings->no_atmosphere;
   if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) return sl::fail(kCmd, dir + ": cannot create the folder", 2);
   Setting base;  // the scene's own setting
   base.family = "scene";
-  base.slices = rs.settings.slices, base.light_resolution = rs.settings.light_resolution, base.xi = rs.settings.xi;
-  base.lighting = (sl_lighting)rs.settings.lighting;
-  base.spectral = rs.settings.spectral;
-  base.light_volume = rs.settings.light_volume, base.march_samples = rs.settings.march_samples;
-  sl_error err{};
+  base.slices = settings->slices, base.light_resolution = settings->light_resolution, base.xi = settings->xi;
+  base.lighting = (sl_lighting)settings->lighting;
+  base.spectral = settings->spectral;
+  base.light_volume = settings->light_volume, base.march_samples = settings->march_samples;
   // Air and particle tables per wavelength set (and per highest order), built once; tables come
   // from the on-disk cache after the first run, so they are not part of any frame's time.
   sl_atmosphere air[2];
   for (int sp = 0; sp < 2; ++sp)
-    if (rs.with_air && sl_scene_air(&rs.settings, sp, &air[sp], &err)) return sl::fail(kCmd, err.message);
+    if (with_air && sl_scene_air(settings.get(), sp, &air[sp], &err)) return sl::fail(kCmd, err.message);
   std::map<std::pair<int, int>, TablesPtr> tables;
   auto tables_for = [&](bool spectral, int max_order) -> const sl_optics_tables * {
     const auto key = std::make_pair((int)spectral, max_order);
     auto it = tables.find(key);
     if (it != tables.end()) return it->second.get();
     sl::Progress progress("tables", !quiet);
-    TablesPtr t(sl_scene_tables(&rs.frame.volume, spectral, max_order, progress_hook, &progress, &err), sl_optics_free);
+    TablesPtr t(sl_scene_tables(&built->frame.volume, spectral, max_order, progress_hook, &progress, &err), sl_optics_free);
     progress.done();
     if (!t) return nullptr;
     return tables.emplace(key, std::move(t)).first->second.get();
@@ -337,10 +345,10 @@ int sl_cmd_validate(int argc, char **argv)
   auto scene_for = [&](const Setting &s, sl_scene *sc) -> bool {
     const sl_optics_tables *optics = tables_for(s.spectral, s.max_order);
     if (!optics) return false;
-    std::unique_ptr<sl_settings> v(new sl_settings(rs.settings));
+    std::unique_ptr<sl_settings> v(new sl_settings(*settings));
     v->lighting = s.lighting, v->xi = s.xi, v->slices = s.slices, v->light_resolution = s.light_resolution;
     v->light_volume = s.light_volume, v->march_samples = s.march_samples, v->spectral = s.spectral;
-    sl_scene_fill(v.get(), &rs.built, rs.with_air ? &air[s.spectral] : nullptr, optics, sc);
+    sl_scene_fill(v.get(), built.get(), with_air ? &air[s.spectral] : nullptr, optics, sc);
     return true;
   };
 
@@ -355,7 +363,7 @@ int sl_cmd_validate(int argc, char **argv)
     double lo[3], hi[3];
     sl_renderer_content_bounds(r, lo, hi);
     sl_renderer_destroy(r);
-    sl_scene_camera(&rs.settings, lo, hi, &cam);
+    sl_scene_camera(settings.get(), lo, hi, &cam);
   }
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
   if (sl_scene_ground_opaque(&base_scene, &cam, ground.data())) cam.opaque_distance = ground.data();
@@ -368,12 +376,12 @@ int sl_cmd_validate(int argc, char **argv)
   sl_ref_scene rsc;
   sl_ref_scene_defaults(&rsc);
   std::unique_ptr<sl_ref_medium, void (*)(sl_ref_medium *)> medium(
-      sl_ref_medium_from_volume(&rs.frame.volume, tables_for(base.spectral, 0), &err), sl_ref_medium_destroy);
+      sl_ref_medium_from_volume(&built->frame.volume, tables_for(base.spectral, 0), &err), sl_ref_medium_destroy);
   if (!medium) return sl::fail(kCmd, scene_path + ": " + err.message);
   rsc.medium = medium.get();
-  sl_sun_direction(rs.sun_elevation_deg, rs.sun_azimuth_deg, rsc.sun_direction);
-  rsc.atmosphere = rs.with_air ? &air[base.spectral] : nullptr;
-  for (int c = 0; c < 3; ++c) rsc.sky_radiance[c] = rs.sky[c];
+  for (int a = 0; a < 3; ++a) rsc.sun_direction[a] = base_scene.sun_direction[a];  // render's sun
+  rsc.atmosphere = with_air ? &air[base.spectral] : nullptr;
+  for (int c = 0; c < 3; ++c) rsc.sky_radiance[c] = settings->sky[c];
   rsc.seed = (unsigned long long)seed;
   rsc.roulette_depth = (int)roulette_depth;
   if (o.has("ref")) {
@@ -500,7 +508,7 @@ int sl_cmd_validate(int argc, char **argv)
   std::vector<Row> rows;
   std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
   double floor = 0;
-  for (const Setting &s : variants(base, o.has("quick"), rs.with_air)) {
+  for (const Setting &s : variants(base, o.has("quick"), with_air)) {
     sl_scene sc;
     if (!scene_for(s, &sc)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
     Row row;

@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -233,19 +234,22 @@ class Viewer {
   bool Prepare(std::string *why)
   {
     session.reset();
+    // The view's state as render's arguments (without the command's name), read by the C parser.
     std::vector<std::string> args = render_arguments(state);
     std::vector<char *> argv;
-    for (std::string &x : args) argv.push_back(&x[0]);
-    sl::Options o("render", "", "");
-    sl::declare_render_options(o);
-    if (!o.parse((int)argv.size(), argv.data())) {
-      *why = o.error();
+    for (size_t i = 1; i < args.size(); ++i) argv.push_back(&args[i][0]);
+    std::unique_ptr<sl_settings> settings(new sl_settings);
+    sl_settings_defaults(settings.get());
+    sl_error err{};
+    if (sl_settings_parse_args(settings.get(), (int)argv.size(), argv.data(), &err) ||
+        sl_settings_check(settings.get(), &err)) {
+      *why = err.message;
       return false;
     }
     std::unique_ptr<sl::RenderSession> s(new sl::RenderSession);
     s->for_gpu = true;
     int exit_code = 1;
-    if (!s->prepare(o, state.data, true, why, &exit_code)) return false;
+    if (!s->prepare(*settings, true, why, &exit_code)) return false;
     session = std::move(s);
     session_time = state.time;
     return true;
@@ -606,11 +610,16 @@ int sl_cmd_view(int argc, char **argv)
     }
   }
   s.lighting = o.str("lighting");
-  for (const char *name : {"dz", "earth", "fog-depth-km", "fog-visibility-km", "light-resolution", "sky", "slices",
-                           "threads", "wavelengths"})
-    if (o.has(name)) s.options.emplace_back(name, o.str(name));
-  for (const char *name : {"float", "light-volume", "no-atmosphere"})
-    if (o.has(name)) s.flags.push_back(name);
+  // Every other option of the table as given (the view's own state above is not among them).
+  static const std::set<std::string> kViewState = {
+      "out",  "time", "width", "height", "sun-azimuth", "sun-elevation", "date", "fov", "xi", "exposure",
+      "lighting", "view-azimuth", "view-elevation", "camera-position", "camera-target"};
+  for (int i = 0; i < sl_settings_option_count; ++i) {
+    const sl_option &opt = sl_settings_options[i];
+    if (kViewState.count(opt.name) || !o.has(opt.name)) continue;
+    if (opt.type == SL_OPTION_FLAG) s.flags.push_back(opt.name);
+    else s.options.emplace_back(opt.name, o.str(opt.name));
+  }
   if (o.has("camera-position") || o.has("camera-target")) {
     if (!o.has("camera-position") || !o.has("camera-target"))
       return sl::fail("view", "give both --camera-position and --camera-target, or neither", 2);

@@ -42,18 +42,14 @@ RenderSession::~RenderSession()
   sl_built_scene_free(&built);
 }
 
-bool RenderSession::prepare(const Options &opts, const std::string &path, bool quiet, std::string *why, int *exit)
+bool RenderSession::prepare(const sl_settings &s, bool quiet, std::string *why, int *exit)
 {
-  Options &o = const_cast<Options &>(opts);  // the accessors parse lazily
+  settings = s;
   sl_error err{};
-  if (!settings_from_options(o, path, &settings, why) || (sl_settings_check(&settings, &err) && (*why = err.message, true))) {
-    *exit = 2;
-    return false;
-  }
   Progress table_progress("tables", !quiet);
   parts_->progress.reset(new Progress("rendering", !quiet));
   sl_build_options build{};
-  build.for_gpu = for_gpu || o.has("gpu");
+  build.for_gpu = for_gpu;
   build.tables_progress = progress_hook, build.tables_progress_user = &table_progress;
   build.render_progress = progress_hook, build.render_progress_user = parts_->progress.get();
   const int rc = sl_scene_build(&settings, &build, &built, &err);

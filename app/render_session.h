@@ -28,14 +28,13 @@ class RenderSession {
   RenderSession(const RenderSession &) = delete;
   RenderSession &operator=(const RenderSession &) = delete;
 
-  // From render's parsed options (declare_render_options), through their settings
-  // (settings_from_options) and sl_scene_build: loads `path` at --time with the load options,
-  // places the sun (--sun-azimuth/--sun-elevation, --date, or the file's own time over the grid's
-  // centre), builds the air, the tables and the renderer. False with one line; *exit is 2 for a
-  // usage error, 1 for a failure.
-  bool prepare(const Options &o, const std::string &path, bool quiet, std::string *why, int *exit);
-  // The volume is for the GPU pass (`view`; `render --gpu` says so by its flag): cloud and rain
-  // size tables then share its four fields (sl_load_options.max_fields).
+  // The scene of settings s (checked, sl_settings_check) through sl_scene_build: loads the storm
+  // file at its time with the load options, places the sun (given angles, a date, or the file's
+  // own time over the grid's centre), builds the air, the tables and the renderer. False with one
+  // line; *exit is 2 for a usage error, 1 for a failure.
+  bool prepare(const sl_settings &s, bool quiet, std::string *why, int *exit);
+  // The volume is for the GPU pass (`view`, `render --gpu`): cloud and rain size tables then share
+  // its four fields (sl_load_options.max_fields).
   bool for_gpu = false;
 
   // Another sun (compass azimuth, elevation, degrees): the light volume is lit again on the next

@@ -107,6 +107,15 @@ int sl_scene_json_args(const char *text, const char *path, sl_scene_args *out, s
   return rc;
 }
 
+/* An error about the scene file `path`: err's message with the path in front. */
+static int fail_naming(sl_error *err, int rc, const char *path)
+{
+  char message[sizeof err->message];
+  snprintf(message, sizeof message, "%s", err->message);
+  err->code = 0;
+  return sl_fail(err, rc, "%s: %s", path, message);
+}
+
 int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err)
 {
   FILE *f = fopen(path, "rb");
@@ -135,12 +144,18 @@ int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err)
   free(text);
   if (rc) return rc;
   rc = sl_settings_parse_args(s, args.argc, args.argv, err);
-  if (rc) {
-    char message[sizeof err->message];
-    snprintf(message, sizeof message, "%s", err->message);
-    err->code = 0;
-    rc = sl_fail(err, rc, "%s: %s", path, message);
-  }
+  if (rc) rc = fail_naming(err, rc, path);
   sl_scene_args_free(&args);
   return rc;
+}
+
+int sl_settings_from_scene(sl_settings *s, const char *path, int argc, char **argv, sl_error *err)
+{
+  sl_settings_defaults(s);
+  int rc = sl_settings_from_scene_file(s, path, err);
+  if (rc) return rc;
+  if (argc > 0 && (rc = sl_settings_parse_args(s, argc, argv, err))) return fail_naming(err, rc, path);
+  if (!s->data[0]) return sl_fail(err, SL_ERR_ARG, "%s: the scene names no \"data\" file", path);
+  if ((rc = sl_settings_check(s, err))) return fail_naming(err, rc, path);
+  return SL_OK;
 }

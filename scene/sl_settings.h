@@ -118,6 +118,10 @@ int sl_scene_json_args(const char *text, const char *path, sl_scene_args *out, s
 void sl_scene_args_free(sl_scene_args *a);
 /* Settings from a scene file (read, then sl_scene_json_args and sl_settings_parse_args). */
 int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err);
+/* A scene as a front end reads it: the defaults, the file's settings, then argc arguments that
+ * override them (render's flags, such as "--width 64"; NULL for none), checked
+ * (sl_settings_check) and naming a storm file; a one-line error naming the scene file. */
+int sl_settings_from_scene(sl_settings *s, const char *path, int argc, char **argv, sl_error *err);
 
 #ifdef __cplusplus
 }

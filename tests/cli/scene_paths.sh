@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scene_paths.sh STORMLIGHT WORKDIR SHARED: one scene with --curvature drop and --origin drawn by
-# `render` and by the path `validate` and `reference` take (load_render_scene, then the fast
+# `render` and by the path `validate` and `reference` take (sl_settings_from_scene and sl_scene_load, then the fast
 # renderer's frame.exr): the frames are the same, bit for bit; and the scene without them is a
 # different frame, so that a path that dropped either would fail here. Needs the real Katrina
 # file from ../shared/data.

@@ -146,6 +146,32 @@ static void test_args_and_json(const char *work)
   e = (sl_error){0};
   CHECK(sl_settings_from_scene_file(&b, path, &e) != SL_OK && strstr(e.message, "unknown scene key 'colour'") &&
         strstr(e.message, path));
+  /* A scene as validate and reference read it: the defaults, the file, then the overrides win; a
+   * scene with no storm file, or whose options contradict, is refused naming the file. */
+  f = fopen(path, "w");
+  fprintf(f, "{\"data\": \"s.nc\", \"width\": 64, \"xi\": 0.2}");
+  fclose(f);
+  char *overrides[] = {"--width", "32", "--fov", "30"};
+  e = (sl_error){0};
+  CHECK(sl_settings_from_scene(&b, path, 4, overrides, &e) == SL_OK);
+  CHECK(b.width == 32 && b.height == 512 && b.fov_deg == 30.0 && b.xi == 0.2 && !strcmp(b.data, data));
+  CHECK(sl_settings_given(&b, "xi") && !sl_settings_given(&b, "slices"));
+  f = fopen(path, "w");
+  fprintf(f, "{\"width\": 64}");
+  fclose(f);
+  e = (sl_error){0};
+  CHECK(sl_settings_from_scene(&b, path, 0, NULL, &e) == SL_ERR_ARG && strstr(e.message, "names no \"data\"") &&
+        strstr(e.message, path));
+  f = fopen(path, "w");
+  fprintf(f, "{\"data\": \"s.nc\", \"sun-azimuth\": 90}");
+  fclose(f);
+  e = (sl_error){0};
+  CHECK(sl_settings_from_scene(&b, path, 0, NULL, &e) == SL_ERR_ARG && strstr(e.message, "--sun-elevation") &&
+        strstr(e.message, path));
+  char *bad_override[] = {"--width", "-3"};
+  e = (sl_error){0};
+  CHECK(sl_settings_from_scene(&b, path, 2, bad_override, &e) == SL_ERR_ARG && strstr(e.message, "--width") &&
+        strstr(e.message, path));
   sl_settings c;
   sl_settings_defaults(&c);
   sl_settings_set(&c, "sun-azimuth", "90", &e);
