@@ -37,7 +37,8 @@ double seconds_since(std::chrono::steady_clock::time_point t)
 }
 
 // A fragment shader with the embedded texts where its markers stand: the shared per-sample
-// physics and the lattice's look-ups, the shared sky, the view ray.
+// physics and the lattice's look-ups (//SL::Physics), the shared physics alone (//SL::Model: the
+// resolve reads no lattice), the shared sky, the view ray.
 std::string with_shared(const char *shader)
 {
   std::string s = shader;
@@ -46,6 +47,7 @@ std::string with_shared(const char *shader)
     if (at != std::string::npos) s.replace(at, marker.size(), text);
   };
   put("//SL::Physics", gpu_physics_prelude() + sl_shader_volume_grid);
+  put("//SL::Model", gpu_physics_prelude());
   put("//SL::Sky", gpu_sky_prelude());
   put("//SL::ViewRay", sl_shader_view_ray);
   return s;
@@ -59,33 +61,13 @@ void release(vtkTextureObject **t, vtkWindow *w)
   *t = nullptr;
 }
 
-// The light volume's sweep (light_volume.c): planes across the sun's dominant axis, visited in
-// the light's order, and the in-plane shift of a sun ray from one plane to the next.
-struct SweepGeometry {
-  int axis, a1, a2, step, first;
-  double path, shift[2];
-  explicit SweepGeometry(const sl_renderer_gpu_inputs &in)
-  {
-    const double *sun = in.sun_direction;
-    const double prop[3] = {-sun[0], -sun[1], -sun[2]};
-    axis = 0;
-    for (int a = 1; a < 3; ++a)
-      if (std::fabs(prop[a]) > std::fabs(prop[axis])) axis = a;
-    a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-    step = prop[axis] > 0.0 ? 1 : -1;
-    first = step > 0 ? 0 : in.n[axis] - 1;
-    path = in.spacing[axis] / std::fabs(prop[axis]);
-    shift[0] = -path * prop[a1] / in.spacing[a1];
-    shift[1] = -path * prop[a2] / in.spacing[a2];
-  }
-};
-
 }  // namespace
 
 std::string gpu_physics_prelude()
 {
   return std::string("#define SL_MAX_FIELDS ") + std::to_string(kMaxFields) + "\n#define SL_MAX_WAVELENGTHS " +
-         std::to_string(kWavelengths) + "\n" + sl_shader_volume_model + "\n" + sl_shader_sl_sample_physics + "\n";
+         std::to_string(kWavelengths) + "\n" + sl_shader_volume_model + "\n" + sl_shader_sl_guards + "\n" +
+         sl_shader_sl_sample_physics + "\n";
 }
 
 std::string gpu_sky_prelude()
@@ -306,7 +288,7 @@ void GpuVolumePass::SetVolumeUniforms(vtkShaderProgram *p)
   p->SetUniform3f("slGridN", n);
   p->SetUniform3f("slBoxLo", lo);
   p->SetUniform3f("slBoxHi", hi);
-  const SweepGeometry g(in);
+  const sl_sweep_geometry &g = in.sweep;  // the CPU sweep's (sl_sweep_geometry.h)
   float e_axis[3] = {0, 0, 0}, e1[3] = {0, 0, 0}, e2[3] = {0, 0, 0};
   e_axis[g.axis] = e1[g.a1] = e2[g.a2] = 1.0f;
   p->SetUniform3f("slAxisE", e_axis);
@@ -359,7 +341,7 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
 {
   sl_renderer_gpu_inputs in;
   sl_renderer_gpu_inputs_get(renderer_, &in);
-  const SweepGeometry g(in);
+  const sl_sweep_geometry &g = in.sweep;  // the CPU sweep's (sl_sweep_geometry.h)
   const int w = in.n[g.a1], h = in.n[g.a2], layers = in.n[g.axis];
   if (!light_) light_ = new_float_texture(win);
   if (!light_->Create3DFromRaw(w, h, layers, 4, VTK_FLOAT, nullptr))
@@ -375,6 +357,7 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
   vtkShaderProgram *p = sweep_quad_->Program;
   SetVolumeUniforms(p);
   p->SetUniformf("slPath", (float)g.path);
+  p->SetUniformf("slFirstPath", (float)g.first_path);
   const float shift[2] = {(float)g.shift[0], (float)g.shift[1]};
   p->SetUniform2f("slShift", shift);
   const float plane_n[2] = {(float)w, (float)h};

@@ -59,9 +59,7 @@ void main()
       angleIndex = sl_angle_row(u, slAngles);
       angleWeight = sl_angle_weight(u, angleIndex);
     }
-    float dt = 3.0e38;
-    for (int a = 0; a < 3; ++a)
-      if (abs(d[a]) > 1e-12) dt = min(dt, slSpacing[a] / (slMarchSamples * abs(d[a])));
+    float dt = sl_march_max_step(slSpacing, d, slMarchSamples);
     int nsteps = sl_march_steps(t1 - t0, dt);
     dt = (t1 - t0) / float(max(nsteps, 1));
     vec4 l0 = slSampleLight(slEye + t0 * d);
@@ -79,12 +77,13 @@ void main()
       }
       float phase[SL_MAX_WAVELENGTHS], moments[2];
       sl_eye_phase_at(beta, 0.5 * (l0.a + l1.a), angleIndex, angleWeight, phase);
-      sl_segment_scatter_moments(b, dt, 1.0, moments);
-      vec3 gathered = l0.rgb * moments[0] + (l1.rgb - l0.rgb) * moments[1];
-      radiance += T * gathered * vec3(phase[0], phase[1], phase[2]) / b * slSunlightAt(x);
-      float opacity = 1.0 - exp(-b * dt);
+      float opacity = sl_step_opacity(b, dt);
+      sl_segment_scatter_moments_exp(b, dt, 1.0, 1.0 - opacity, moments);
+      vec3 sun = slSunlightAt(x);
+      for (int c = 0; c < 3; ++c)
+        radiance[c] += T * sl_march_step_light(l0[c], l1[c], moments[0], moments[1], phase[c], 1.0 / b) * sun[c];
       depth += T * opacity * tm * dot(d, slFwd);
-      T *= exp(-b * dt);
+      T *= 1.0 - opacity;
       l0 = l1;
     }
   }

@@ -8,6 +8,7 @@
 uniform int slLayer;       // sweep index of this plane (0: the sunlit face)
 uniform float slPlaneK;    // its lattice index along the axis
 uniform float slPath;      // path along the sunlight from one plane to the next, m
+uniform float slFirstPath; // fresh sunlight's path to the first plane, m
 uniform vec2 slShift;      // the in-plane shift (a1, a2) over that path, in samples
 uniform vec2 slPlaneN;     // samples along a1 and a2
 uniform vec3 slSun;        // unit vector toward the sun
@@ -19,13 +20,8 @@ bool slPlaneLookup(float u, float w, out vec4 prev)
 {
   prev = vec4(0.0);
   vec2 n = slPlaneN;
-  if (u < -0.5 || w < -0.5 || u > n.x - 0.5 || w > n.y - 0.5) return false;
-  float fresh = 0.0;
-  if (u < 0.0) fresh = max(fresh, -2.0 * u);
-  if (u > n.x - 1.0) fresh = max(fresh, 2.0 * (u - (n.x - 1.0)));
-  if (w < 0.0) fresh = max(fresh, -2.0 * w);
-  if (w > n.y - 1.0) fresh = max(fresh, 2.0 * (w - (n.y - 1.0)));
-  fresh = min(fresh, 1.0);
+  if (!sl_sweep_in_plane(u, w, n.x, n.y)) return false;
+  float fresh = sl_sweep_fresh_weight(u, w, n.x, n.y);
   u = clamp(u, 0.0, n.x - 1.0);
   w = clamp(w, 0.0, n.y - 1.0);
   ivec2 ni = ivec2(n + 0.5);
@@ -61,7 +57,7 @@ void main()
   float len = slPath;
   if (slLayer == 0 || !slPlaneLookup(p.x + slShift.x, p.y + slShift.y, prev)) {
     prev = vec4(0.0);
-    len = slLayer == 0 ? 0.5 * dot(slSpacing, slAxisE) / abs(dot(prop, slAxisE)) : min(slPath, slDistanceToBoxToward(x, slSun));
+    len = slLayer == 0 ? slFirstPath : min(slPath, slDistanceToBoxToward(x, slSun));
   }
   vec3 lnI = prev.rgb;
   float n = prev.a;
@@ -76,5 +72,5 @@ void main()
     lnI += vec3(logKept[0], logKept[1], logKept[2]);
     if (slMode != SL_MODE_LOW_ALBEDO) n = sl_expected_scatter_count(beta, n, len);
   }
-  gl_FragData[0] = vec4(max(lnI, vec3(-80.0)), n);
+  gl_FragData[0] = vec4(max(lnI, vec3(SL_LOG_FLOOR)), n);
 }

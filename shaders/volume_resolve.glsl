@@ -1,11 +1,13 @@
 //VTK::System::Dec
 // Stormlight: the eye pass's accumulator resolved on the GPU, per pixel what the CPU's
-// sl_renderer_resolve_accumulator and sl_renderer_background compute (render/volume/renderer.c's
-// sl__resolve_pixel): the volume layer with the aerial perspective in front of it (the sky's
-// light and transparency from the eye to the content's midplane), and the background (the sky
-// along the whole ray, the sun's disk, the view-axis distance to the ground). The sky is
-// render/sky/sky_sample_shared.h, the text the CPU compiles. Image row py is written to GL row
+// sl_renderer_resolve_accumulator and sl_renderer_background compute (render/volume/resolve.c):
+// the volume layer with the aerial perspective in front of it (the sky's light and transparency
+// from the eye to the content's midplane), and the background (the sky along the whole ray, the
+// sun's disk, the view-axis distance to the ground). The layer's split, value and depth are
+// render/volume/sl_sample_physics.h's, the sky render/sky/sky_sample_shared.h: the texts the CPU
+// compiles. Image row py is written to GL row
 // py, so that the read-back lies in the image's order (rows from the top).
+//SL::Model
 //SL::Sky
 //SL::ViewRay
 uniform sampler2D slAccColor;  // the eye pass: radiance per wavelength, transparency (GL rows)
@@ -51,13 +53,14 @@ void main()
   if (!(slContentSpan(d, t0, t1) && t1 > t0 && t1 > 0.0)) t0 = t1 = 0.0;
   t0 = max(t0, 0.0);
   float along = dot(slFwd, d);
-  float tMid = abs(along) > 1e-12 ? slMidDistance / along : 0.5 * (t0 + t1);
-  tMid = tMid < t0 ? t0 : tMid > t1 ? t1 : tMid;
+  float tMid = sl_resolve_split(along, slMidDistance, t0, t1);
   vec3 front = vec3(0.0), frontT = vec3(1.0);
   if (slHaveAir != 0 && T < 1.0) slSkySegment(d, 0.0, tMid, front, frontT);
   float coverage = 1.0 - T;
-  gl_FragData[0] = vec4(slToLinearRgb(frontT * acc.rgb + coverage * front), coverage);
-  float depth = coverage > 1e-4 ? depthNumerator / coverage : slInfinity;
+  vec3 layer;
+  for (int c = 0; c < 3; ++c) layer[c] = sl_resolve_layer(acc[c], coverage, front[c], frontT[c]);
+  gl_FragData[0] = vec4(slToLinearRgb(layer), coverage);
+  float depth = sl_resolve_depth(depthNumerator, coverage, slInfinity);
   // The background (sl_renderer_background).
   vec3 sky = slSkyRadiance;
   float groundDepth = slInfinity;

@@ -1,6 +1,7 @@
 /* The Narasimhan–Ramamoorthi–Nayar series, its single-scattering companion for T <= 1 and the
  * blended angular profile. Derivation checks and the printed-equation errata: docs/APSF.md. */
 #include "sl_apsf.h"
+#include "sl_guards.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -126,7 +127,7 @@ int sl_apsf_series_init(sl_apsf_series *s, const sl_apsf_medium *m, double T, do
 
 double sl_apsf_series_shape(const sl_apsf_series *s, double mu)
 {
-  const double c = mu > 1.0 ? 1.0 : (mu < -1.0 ? -1.0 : mu);
+  const double c = sl_clamp_cosine(mu);
   return sl_legendre_series(s->chi, s->terms, c);
 }
 

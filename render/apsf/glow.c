@@ -1,6 +1,7 @@
 /* The depth-dependent FFT convolution (Narasimhan et al., section 7.3) and eqs. 30-31; the 2D
  * PSF itself is in kernel.c. */
 #include "sl_glow.h"
+#include "sl_guards.h"
 
 #include <fftw3.h>
 #include <math.h>
@@ -189,10 +190,10 @@ double sl_airlight_path(double scene_radiance, double horizon_brightness, double
  * that lies above the horizontal: s_z = mu sin e + sqrt(1 - mu^2) cos e cos(phi) > 0. */
 static double cone_share_above(double mu, double sin_e, double cos_e)
 {
-  const double s = sqrt(fmax(0.0, 1.0 - mu * mu)), z = mu * sin_e;
+  const double s = sl_safe_sqrt(1.0 - mu * mu), z = mu * sin_e;
   if (s * cos_e <= 0.0) return z > 0.0 ? 1.0 : z < 0.0 ? 0.0 : 0.5; /* the cone is one direction */
   const double c = -z / (s * cos_e);
-  return acos(c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c) / SL_PI;
+  return acos(sl_clamp_cosine(c)) / SL_PI;
 }
 
 /* The cosine mu at which Henyey-Greenstein's cumulative distribution over mu reaches u:
@@ -202,7 +203,7 @@ static double hg_inverse_cdf(double q, double u)
   if (fabs(q) < 1e-9) return 2.0 * u - 1.0;
   const double t = (1.0 - q * q) / (1.0 - q + 2.0 * q * u);
   const double mu = (1.0 + q * q - t * t) / (2.0 * q);
-  return mu > 1.0 ? 1.0 : mu < -1.0 ? -1.0 : mu;
+  return sl_clamp_cosine(mu);
 }
 static double hg_cdf(double q, double mu)
 {

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sl_guards.h"
 #include "optics_internal.h"
 #include "sl_legendre.h"
 #include "sl_refractive.h"
@@ -125,7 +126,7 @@ static void point_on_face(const prism *P, int f, rng *r, double *p)
 static double trace_ray(const prism *P, double m, double absorption_per_length, rng *r, double *d_in, double *out)
 {
   /* Uniform incidence direction: a fixed sun on randomly oriented crystals. */
-  const double cz = 2.0 * rng_uniform(r) - 1.0, phi = 2.0 * SL_PI * rng_uniform(r), sz = sqrt(fmax(0.0, 1.0 - cz * cz));
+  const double cz = 2.0 * rng_uniform(r) - 1.0, phi = 2.0 * SL_PI * rng_uniform(r), sz = sl_safe_sqrt(1.0 - cz * cz);
   double d[3] = {sz * cos(phi), sz * sin(phi), cz};
   memcpy(d_in, d, sizeof d);
   /* Entry face with probability proportional to its projected area. */
@@ -143,7 +144,7 @@ static double trace_ray(const prism *P, double m, double absorption_per_length, 
   const double *n = P->n[f];
   double cos_i = -dot(n, d);
   double sin_t2 = (1.0 - cos_i * cos_i) / (m * m);
-  double cos_t = sqrt(fmax(0.0, 1.0 - sin_t2));
+  double cos_t = sl_safe_sqrt(1.0 - sin_t2);
   if (rng_uniform(r) < fresnel_unpolarised(1.0, m, cos_i, cos_t)) {
     for (int i = 0; i < 3; ++i) out[i] = d[i] + 2.0 * cos_i * n[i];
     return 1.0;
@@ -264,7 +265,7 @@ int optics_ice_crystals(double wavelength_nm, const optics_grid *g, long rays, u
         hc[J] += 1.0;
         if (w <= 0.0) continue;
         const double len = sqrt(dot(d_out, d_out));
-        const double cs = fmax(-1.0, fmin(1.0, dot(d_in, d_out) / len));
+        const double cs = sl_clamp_cosine(dot(d_in, d_out) / len);
         int bin = (int)lround(acos(cs) / h);
         if (bin > J - 1) bin = J - 1;
         hc[bin] += w;

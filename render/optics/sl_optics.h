@@ -23,6 +23,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "sl_guards.h"
 #include "sl_particles.h"
 #include "sl_status.h"
 
@@ -139,7 +140,7 @@ static inline double sl_phase_table_ams(const sl_phase_table *t, int n, double c
 {
   if (n < 0) n = 0;
   if (n > t->max_order) n = t->max_order;
-  const double c = cos_theta > 1.0 ? 1.0 : (cos_theta < -1.0 ? -1.0 : cos_theta);
+  const double c = sl_clamp_cosine(cos_theta);
   const double u = acos(c) * t->inv_step_rad;
   int i = (int)u;
   if (i > t->n_angles - 2) i = t->n_angles - 2;

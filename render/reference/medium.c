@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sl_guards.h"
 #include "reference_internal.h"
 #include "sl_air.h"
 #include "sl_legendre.h"
@@ -46,7 +47,7 @@ void ref_rotate(const double d[3], double mu, double phi, double out[3])
   const double b = d[0] * d[1] * a;
   const double t1[3] = {1.0 + s * d[0] * d[0] * a, s * b, -s * d[0]};
   const double t2[3] = {b, s + d[1] * d[1] * a, -d[1]};
-  const double sin_t = sqrt(fmax(0.0, 1.0 - mu * mu));
+  const double sin_t = sl_safe_sqrt(1.0 - mu * mu);
   const double cp = cos(phi) * sin_t, sp = sin(phi) * sin_t;
   double n = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -121,7 +122,7 @@ static double phase_sample_mu(const phase_sampler *ps, sl_ref_rng *rng, double *
     /* Inverse CDF of HG in mu. */
     const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
     double m = (1.0 + g * g - s * s) / (2.0 * g);
-    *mu = m > 1.0 ? 1.0 : m < -1.0 ? -1.0 : m;
+    *mu = sl_clamp_cosine(m);
     return 1.0;
   }
   case SL_REF_PHASE_RAYLEIGH: {
@@ -160,7 +161,7 @@ double ref_phase_pdf(const sl_ref_medium *m, int c, int w, double mu)
   if (ps->kind != SL_REF_PHASE_TABLE) return phase_value(ps, mu);
   /* The table's sampler: the cell's probability spread uniformly over its solid angle. */
   const sl_phase_table *t = ps->table;
-  const double theta = acos(mu > 1.0 ? 1.0 : mu < -1.0 ? -1.0 : mu);
+  const double theta = acos(sl_clamp_cosine(mu));
   int j = (int)(theta * t->inv_step_rad);
   j = j < 0 ? 0 : j > t->n_angles - 2 ? t->n_angles - 2 : j;
   const double a = j * t->step_rad, b = (j + 1 == t->n_angles - 1) ? SL_PI : (j + 1) * t->step_rad;

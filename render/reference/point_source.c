@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sl_guards.h"
 #include "reference_internal.h"
 #include "sl_legendre.h"
 
@@ -39,7 +40,7 @@ static double hg_sample_mu(double g, double u)
   if (fabs(g) < 1e-6) return 1.0 - 2.0 * u;
   const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
   const double m = (1.0 + g * g - s * s) / (2.0 * g);
-  return m > 1.0 ? 1.0 : m < -1.0 ? -1.0 : m;
+  return sl_clamp_cosine(m);
 }
 
 /* One photon: adds weight/|mu| of every scattered crossing to bin_tally (touched bins listed in
@@ -53,7 +54,7 @@ static int trace_photon(const sl_ref_point_options *o, long index, double *bin_t
   double x[3] = {0.0, 0.0, 0.0}, d[3];
   {
     const double mu = 1.0 - 2.0 * sl_ref_rng_uniform(&rng), phi = 2.0 * SL_PI * sl_ref_rng_uniform(&rng);
-    const double s = sqrt(fmax(0.0, 1.0 - mu * mu));
+    const double s = sl_safe_sqrt(1.0 - mu * mu);
     d[0] = s * cos(phi), d[1] = s * sin(phi), d[2] = mu;
   }
   double weight = 1.0;
@@ -75,7 +76,7 @@ static int trace_photon(const sl_ref_point_options *o, long index, double *bin_t
         *net += mu > 0.0 ? weight : -weight;
         if (scatterings == 0) continue; /* the unscattered beam is the Dirac, kept apart */
         const double amu = fabs(mu) > 1e-12 ? fabs(mu) : 1e-12;
-        int bin = (int)(acos(mu > 1.0 ? 1.0 : mu < -1.0 ? -1.0 : mu) / dtheta);
+        int bin = (int)(acos(sl_clamp_cosine(mu)) / dtheta);
         bin = bin >= o->bins ? o->bins - 1 : bin;
         if (bin_tally[bin] == 0.0) touched[ntouched++] = bin;
         bin_tally[bin] += weight / amu;

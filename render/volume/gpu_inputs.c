@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "renderer_internal.h"
+#include "sl_sample_physics.h"
 
 void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *out)
 {
@@ -19,6 +20,7 @@ void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *ou
   memcpy(out->content_hi, r->chi, sizeof r->chi);
   memcpy(out->content_center, r->content_center, sizeof r->content_center);
   memcpy(out->sun_direction, r->scene.sun_direction, sizeof out->sun_direction);
+  sl_sweep_geometry_init(out->n, out->spacing, out->sun_direction, &out->sweep);
   out->termination_transparency = r->scene.termination_transparency;
   out->march_samples = sl__march_samples(&r->scene);
   out->any_extinction = r->any_extinction;
@@ -70,8 +72,7 @@ int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, 
     if (!(sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0)) t0 = t1 = 0.0;
     if (t0 < 0.0) t0 = 0.0;
     /* The light-volume pass's midplane: across the view axis through the content's centre. */
-    double t_mid = fabs(sl_dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl_dot3(fwd, d) : 0.5 * (t0 + t1);
-    t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
+    const double t_mid = sl_resolve_split(sl_dot3(fwd, d), h_center - f_o, t0, t1);
     sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, d, t_mid, acc + q * (size_t)stride, img, q);
   }
   return SL_OK;

@@ -1,11 +1,9 @@
 /* What the cached light volume's sweep (light_volume_sweep.c) and its eye march
- * (light_volume_march.c) share: where a sample's state lies, and the floor of ln I. */
+ * (light_volume_march.c) share: where a sample's state lies. */
 #ifndef SL_LIGHT_VOLUME_H
 #define SL_LIGHT_VOLUME_H
 
 #include "renderer_internal.h"
-
-#define LOG_FLOOR (-80.0f) /* ln I of light that is gone: exp(-80) is below any radiance of note */
 
 /* The first float of sample (i, j, k)'s state (ln I per wavelength, then n; stride floats). */
 static inline size_t lv_index(const sl_volume *v, int i, int j, int k, int stride)

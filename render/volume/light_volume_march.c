@@ -249,7 +249,7 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
 #pragma omp simd
   for (int i = 0; i < live; ++i) {
     b->inv_beta[i] = 1.0 / b->beta[i];
-    b->opacity[i] = -expm1(-b->beta[i] * dt);
+    b->opacity[i] = sl_step_opacity(b->beta[i], dt);
     const double e = 1.0 - b->opacity[i];
     b->m0[i] = sl_segment_scatter_moment_exp(0, b->beta[i], dt, 1.0, e);
     b->m1[i] = sl_segment_scatter_moment_exp(1, b->beta[i], dt, 1.0, e);
@@ -257,8 +257,9 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
   for (int c = 0; c < nwl; ++c) {
 #pragma omp simd
     for (int i = 0; i < live; ++i)
-      b->radiance[c][i] = (b->l0[c][i] * b->m0[i] + (b->l1[c][i] - b->l0[c][i]) * b->m1[i]) * b->phase[c][i] *
-                          b->inv_beta[i] * b->sun[c][i];
+      b->radiance[c][i] =
+          sl_march_step_light(b->l0[c][i], b->l1[c][i], b->m0[i], b->m1[i], b->phase[c][i], b->inv_beta[i]) *
+          b->sun[c][i];
   }
 }
 
@@ -302,10 +303,7 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
     angle_index = sl_angle_row(u, grid_table->n_angles);
     angle_weight = sl_angle_weight(u, angle_index);
   }
-  const int march_samples = sl__march_samples(sc);
-  double dt = INFINITY;
-  for (int ax = 0; ax < 3; ++ax)
-    if (fabs(d[ax]) > 1e-12) dt = fmin(dt, r->shape.spacing[ax] / (march_samples * fabs(d[ax])));
+  double dt = sl_march_max_step(r->shape.spacing, d, sl__march_samples(sc));
   const int nsteps = sl_march_steps(t1 - t0, dt);
   dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
   const double depth_per_t = sl_dot3(d, f->fwd);
@@ -353,8 +351,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
     if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
     if (t1 <= t0) hit = 0; /* an opaque surface in front of the volume */
     if (hit) march_ray(f, nf, nwl, &sun_lane, d, t0, t1, &batch, a, &samples);
-    double t_mid = fabs(sl_dot3(fwd, d)) > 1e-12 ? (h_center - f_o) / sl_dot3(fwd, d) : 0.5 * (t0 + t1);
-    t_mid = t_mid < t0 ? t0 : t_mid > t1 ? t1 : t_mid;
+    const double t_mid = sl_resolve_split(sl_dot3(fwd, d), h_center - f_o, t0, t1);
     sl__resolve_pixel(r, sc->atmosphere ? f->view : NULL, d, t_mid, a, img, q);
   }
 #pragma omp atomic

@@ -16,7 +16,23 @@
 
 #include "light_volume.h"
 #include "sl_sample_physics.h"
+#include "sl_sweep_geometry.h"
 #include "vector_math.h"
+
+void sl_sweep_geometry_init(const int n[3], const double spacing[3], const double sun[3], sl_sweep_geometry *g)
+{
+  const double p[3] = {-sun[0], -sun[1], -sun[2]}; /* the sunlight's propagation */
+  g->axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (fabs(p[a]) > fabs(p[g->axis])) g->axis = a;
+  g->a1 = (g->axis + 1) % 3, g->a2 = (g->axis + 2) % 3;
+  g->step = p[g->axis] > 0.0 ? 1 : -1;
+  g->first = g->step > 0 ? 0 : n[g->axis] - 1;
+  g->path = spacing[g->axis] / fabs(p[g->axis]);
+  g->shift[0] = -g->path * p[g->a1] / spacing[g->a1];
+  g->shift[1] = -g->path * p[g->a2] / spacing[g->a2];
+  g->first_path = 0.5 * spacing[g->axis] / fabs(p[g->axis]);
+}
 
 
 /* Bilinear look-up of the light state in a plane across axis `axis` (its samples in rows along
@@ -27,15 +43,8 @@ static int plane_lookup(const sl_renderer *r, const float *plane, int axis, doub
   const sl_volume *v = &r->shape;
   const int n[3] = {v->nx, v->ny, v->nz};
   const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-  if (u < -0.5 || w < -0.5 || u > n[a1] - 0.5 || w > n[a2] - 0.5) return 0;
-  /* Between the outermost samples and the box's faces the light has just entered: blend toward
-   * fresh sunlight (I = 1, n = 0) at the face instead of holding the edge sample's state. */
-  double fresh = 0.0;
-  if (u < 0.0) fresh = fmax(fresh, -2.0 * u);
-  if (u > n[a1] - 1) fresh = fmax(fresh, 2.0 * (u - (n[a1] - 1)));
-  if (w < 0.0) fresh = fmax(fresh, -2.0 * w);
-  if (w > n[a2] - 1) fresh = fmax(fresh, 2.0 * (w - (n[a2] - 1)));
-  if (fresh > 1.0) fresh = 1.0;
+  if (!sl_sweep_in_plane(u, w, n[a1], n[a2])) return 0;
+  const double fresh = sl_sweep_fresh_weight(u, w, n[a1], n[a2]);
   u = u < 0.0 ? 0.0 : u > n[a1] - 1 ? n[a1] - 1 : u;
   w = w < 0.0 ? 0.0 : w > n[a2] - 1 ? n[a2] - 1 : w;
   int i = (int)u, j = (int)w;
@@ -73,7 +82,7 @@ static int plane_lookup(const sl_renderer *r, const float *plane, int axis, doub
  * times). */
 #define SWEEP_PLANES 4
 
-/* What the sweep needs: the planes across the sun's dominant axis and the path between them. */
+/* What the sweep needs: its geometry and the planes it keeps. */
 typedef struct sweep_frame {
   const sl_renderer *r;
   float *state;
@@ -82,10 +91,7 @@ typedef struct sweep_frame {
    * plane across x or y is a sample every few kilobytes and each look-up missed the cache; and
    * writes them to the volume together, SWEEP_PLANES at a time (sweep_planes, after each group). */
   float *plane[SWEEP_PLANES];
-  double p[3];           /* the sunlight's propagation */
-  int axis, a1, a2, step, first;
-  double path;           /* from one plane to the next along the sunlight */
-  double shift1, shift2; /* the in-plane shift that path brings, in samples */
+  sl_sweep_geometry g;
   sl__box_exit sun_exit; /* the way out of the box toward the sun */
 } sweep_frame;
 
@@ -97,12 +103,13 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
   const sl_renderer *r = f->r;
   const sl_volume *v = &r->shape;
   const sl_light_model *m = &r->model;
-  const int stride = nwl + 1, axis = f->axis, a1 = f->a1, a2 = f->a2, step = f->step;
+  const sl_sweep_geometry *g = &f->g;
+  const int stride = nwl + 1, axis = g->axis, a1 = g->a1, a2 = g->a2, step = g->step;
   const int n[3] = {v->nx, v->ny, v->nz};
-  const double *p = f->p;
+  const double *sun = r->scene.sun_direction;
   float *state = f->state;
   for (int kk = 0; kk < n[axis]; ++kk) {
-    const int k = f->first + kk * step;
+    const int k = g->first + kk * step;
 #pragma omp for schedule(static)
     for (int jj = 0; jj < n[a2]; ++jj)
       for (int ii = 0; ii < n[a1]; ++ii) {
@@ -112,32 +119,32 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         double prev[SL_MAX_WAVELENGTHS + 1];
         double x[3];
         for (int a = 0; a < 3; ++a) x[a] = v->origin[a] + idx[a] * v->spacing[a];
-        double len = f->path;
+        double len = g->path;
         /* The state where this sample's sun ray crossed the previous plane, or fresh sunlight
          * entering the box (through the first plane or a side face) over a shorter path. */
         if (kk == 0 ||
-            !plane_lookup(r, f->plane[(kk - 1) % SWEEP_PLANES], axis, ii + f->shift1, jj + f->shift2, prev)) {
+            !plane_lookup(r, f->plane[(kk - 1) % SWEEP_PLANES], axis, ii + g->shift[0], jj + g->shift[1], prev)) {
           for (int c = 0; c < nwl; ++c) prev[c] = 0.0;
           prev[nwl] = 0.0;
-          len = sl__min(f->path, sl__box_exit_distance(&f->sun_exit, x));
-          if (kk == 0) len = 0.5 * v->spacing[axis] / fabs(p[axis]);
+          len = sl__min(g->path, sl__box_exit_distance(&f->sun_exit, x));
+          if (kk == 0) len = g->first_path;
         }
-        /* Fields at the middle of the path since the previous plane. */
-        const double mid[3] = {x[0] - 0.5 * len * p[0], x[1] - 0.5 * len * p[1], x[2] - 0.5 * len * p[2]};
+        /* Fields at the middle of the path since the previous plane (toward the sun from x). */
+        const double mid[3] = {x[0] + 0.5 * len * sun[0], x[1] + 0.5 * len * sun[1], x[2] + 0.5 * len * sun[2]};
         float beta[SL_MAX_FIELDS];
         sl__sample_fields_n(r, nf, mid, beta);
         double total = 0.0;
         for (int j = 0; j < nf; ++j) total += beta[j];
         if (!(total > 0.0 && len > 0.0)) {
           /* Nothing on the path: the light arrives as it left the previous plane. */
-          for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)prev[c], LOG_FLOOR);
+          for (int c = 0; c < nwl; ++c) out[c] = fmaxf((float)prev[c], (float)SL_LOG_FLOOR);
           out[nwl] = (float)prev[nwl];
           continue;
         }
         /* One light step on the stored ln I and n (no exponential and logarithm around it). */
         for (int s = 0; s <= nwl; ++s) out[s] = (float)prev[s];
         sl_log_light_step_at(m, (int)m->mode, nf, nwl, beta, len, out, 0);
-        for (int c = 0; c < nwl; ++c) out[c] = fmaxf(out[c], LOG_FLOOR);
+        for (int c = 0; c < nwl; ++c) out[c] = fmaxf(out[c], (float)SL_LOG_FLOOR);
       }
     if (kk % SWEEP_PLANES == SWEEP_PLANES - 1 || kk == n[axis] - 1) {
       /* The planes since the last flush into the volume, sample by sample across them. */
@@ -147,7 +154,7 @@ static inline __attribute__((always_inline)) void sweep_planes(sweep_frame *f, c
         for (int ii = 0; ii < n[a1]; ++ii)
           for (int b = 0; b < held; ++b) {
             int idx[3];
-            idx[axis] = f->first + (kk - held + 1 + b) * step, idx[a1] = ii, idx[a2] = jj;
+            idx[axis] = g->first + (kk - held + 1 + b) * step, idx[a1] = ii, idx[a2] = jj;
             memcpy(state + lv_index(v, idx[0], idx[1], idx[2], stride),
                    f->plane[b] + ((size_t)jj * n[a1] + ii) * stride, (size_t)stride * sizeof(float));
           }
@@ -167,21 +174,13 @@ int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err)
   f.state = sl__huge_alloc(count * stride * sizeof(float)); /* looked up at every eye sample */
   if (!f.state) return sl_fail(err, SL_ERR_NOMEM, "light volume: out of memory");
   const double *sun = r->scene.sun_direction;
-  for (int a = 0; a < 3; ++a) f.p[a] = -sun[a];
-  f.axis = 0;
-  for (int a = 1; a < 3; ++a)
-    if (fabs(f.p[a]) > fabs(f.p[f.axis])) f.axis = a;
-  f.a1 = (f.axis + 1) % 3, f.a2 = (f.axis + 2) % 3;
   const int n[3] = {v->nx, v->ny, v->nz};
-  f.step = f.p[f.axis] > 0.0 ? 1 : -1;
-  f.first = f.step > 0 ? 0 : n[f.axis] - 1;
-  f.path = v->spacing[f.axis] / fabs(f.p[f.axis]);
-  f.shift1 = -f.path * f.p[f.a1] / v->spacing[f.a1], f.shift2 = -f.path * f.p[f.a2] / v->spacing[f.a2];
+  sl_sweep_geometry_init(n, v->spacing, sun, &f.g);
   double box_lo[3], box_hi[3];
   sl_volume_bounds(v, box_lo, box_hi);
   sl__box_exit_init(&f.sun_exit, box_lo, box_hi, sun);
   const double t0 = omp_get_wtime();
-  const size_t plane_floats = (size_t)n[f.a1] * n[f.a2] * stride;
+  const size_t plane_floats = (size_t)n[f.g.a1] * n[f.g.a2] * stride;
   f.plane[0] = malloc(SWEEP_PLANES * plane_floats * sizeof(float));
   if (!f.plane[0]) {
     free(f.state);

@@ -7,6 +7,7 @@
 #define SL_RENDERER_GPU_H
 
 #include "sl_renderer.h"
+#include "sl_sweep_geometry.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -22,6 +23,7 @@ typedef struct sl_renderer_gpu_inputs {
   const float *fields;             /* extinction per present field, model->nf per sample, x fastest, m^-1 */
   double content_lo[3], content_hi[3], content_center[3];
   double sun_direction[3];        /* unit, toward the sun */
+  sl_sweep_geometry sweep;        /* the light volume's sweep, as the CPU's */
   double termination_transparency;
   int march_samples;              /* eye samples per grid cell along a ray */
   int any_extinction;

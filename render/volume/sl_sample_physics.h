@@ -1,7 +1,8 @@
 /* The per-sample physics of the volume renderer, written once in a subset of C11 that also
  * compiles as GLSL 1.50: the light step of Riley et al. 2004 (eqs. 21, 24, 25), the eye
- * gather's angular term (eq. 26) with its table look-ups, and the closed-form single-scattering
- * moments of one eye segment. The CPU renderer (lighting.c, C) and the GPU pass (shaders/,
+ * gather's angular term (eq. 26) with its table look-ups, the closed-form single-scattering
+ * moments of one eye segment, the eye march's step over the light volume, the light sweep's
+ * look-up weights, and the resolve of the volume layer through the air in front (sec. 5). The CPU renderer (lighting.c, C) and the GPU pass (shaders/,
  * embedded text of this very file) call the same functions, so they cannot drift apart
  * (tests/gpu checks the embedded text against this file and the GLSL results against C).
  *
@@ -31,6 +32,10 @@
 #define sl_floor floorf
 #define sl_ceil ceilf
 #define sl_pow powf
+#define sl_fabs fabsf
+#define sl_fmin fminf
+#define sl_fmax fmaxf
+#define sl_expm1 expm1f
 #else
 #define sl_exp exp
 #define sl_log log
@@ -38,6 +43,10 @@
 #define sl_floor floor
 #define sl_ceil ceil
 #define sl_pow pow
+#define sl_fabs fabs
+#define sl_fmin fmin
+#define sl_fmax fmax
+#define sl_expm1 expm1
 #endif
 /* Always inlined: the renderer's passes are compiled once per field and wavelength count
  * (renderer.c), and the counts reach these loops as constants only through inlining. */
@@ -48,6 +57,7 @@
 #define SL_TO_REAL(x) ((SL_REAL)(x))
 #define SL_IN_ARRAY(T, name, n) const T name[n]
 #define SL_OUT_ARRAY(T, name, n) T name[n]
+#define SL_IN_VEC3(name) const SL_REAL name[3]
 /* The model: one pointer in C, uniforms in GLSL. In C the field and wavelength counts travel
  * beside it (m->nf, m->nwl, or constants where the caller is specialised for them). */
 #define SL_UNUSED __attribute__((unused))
@@ -79,6 +89,12 @@
 #define sl_floor floor
 #define sl_ceil ceil
 #define sl_pow pow
+#define sl_fabs abs
+#define sl_fmin min
+#define sl_fmax max
+/* GLSL has no expm1, and exp(x) - 1 in float keeps only ~6e-8 / |x| of relative accuracy: below
+ * |x| = 1e-3 the series to x^3 (truncation below 5e-14). */
+float sl_expm1(float x) { return abs(x) < 1e-3 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0))) : exp(x) - 1.0; }
 #define SL_INLINE
 #define SL_UNROLL
 #define SL_INT(x) int(x)
@@ -86,6 +102,7 @@
 #define SL_TO_REAL(x) float(x)
 #define SL_IN_ARRAY(T, name, n) in T name[n]
 #define SL_OUT_ARRAY(T, name, n) out T name[n]
+#define SL_IN_VEC3(name) in vec3 name
 #define SL_MODEL_PARAM
 #define SL_MODEL_ARG
 #define SL_PI 3.14159265358979323846
@@ -340,6 +357,88 @@ SL_INLINE void sl_segment_scatter_moments_exp(SL_REAL beta, SL_REAL len, SL_REAL
 SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rate, SL_OUT_ARRAY(SL_REAL, result, 2))
 {
   sl_segment_scatter_moments_exp(beta, len, rate, sl_exp(-beta * rate * len), result);
+}
+
+/* ---- The eye march over the light volume (light_volume_march.c, shaders/volume_eye.glsl) ---- */
+
+/* The longest step along a ray of direction d (unit) that stays within 1/samples of a grid cell
+ * (spacing per axis) along every axis: the light volume holds the light at the grid's resolution,
+ * and a finer march keeps optically thick surfaces from speckling. */
+SL_INLINE SL_REAL sl_march_max_step(SL_IN_VEC3(spacing), SL_IN_VEC3(d), SL_REAL samples)
+{
+  SL_REAL dt = 3.0e38;
+  for (int a = 0; a < 3; ++a)
+    if (sl_fabs(d[a]) > 1e-12) dt = sl_fmin(dt, spacing[a] / (samples * sl_fabs(d[a])));
+  return dt;
+}
+
+/* The opacity of an eye step through extinction beta (m^-1) over dt (m), 1 - exp(-beta dt), with
+ * no cancellation in a thin step where the library has expm1; 1 minus it is the step's
+ * transparency and the exponential the segment moments take (sl_segment_scatter_moments_exp). */
+SL_INLINE SL_REAL sl_step_opacity(SL_REAL beta, SL_REAL dt) { return -sl_expm1(-beta * dt); }
+
+/* The light an eye step sends toward the eye at one wavelength per unit of sunlight reaching it
+ * (eq. 26 integrated over the step in closed form): the light state linear from l0 to l1 between
+ * the step's ends, weighted by the step's moments m0 and m1 (sl_segment_scatter_moments at rate 1:
+ * no attenuation inside the step beyond the eye's), times the angular term phase (m^-1 sr^-1,
+ * sl_eye_phase_at) per metre of extinction (inv_beta = 1 / beta: the moments carry beta). */
+SL_INLINE SL_REAL sl_march_step_light(SL_REAL l0, SL_REAL l1, SL_REAL m0, SL_REAL m1, SL_REAL phase, SL_REAL inv_beta)
+{
+  return (l0 * m0 + (l1 - l0) * m1) * phase * inv_beta;
+}
+
+/* ---- The light volume's sweep (light_volume_sweep.c, shaders/volume_light_sweep.glsl) ---- */
+
+/* ln I of light that is gone, the least the sweep stores: exp(-80) is below any radiance of note. */
+#define SL_LOG_FLOOR (-80.0)
+
+/* Whether the point at fractional sample coordinates (u, w) of a plane of n1 x n2 samples lies in
+ * the plane's footprint, half a sample beyond its outermost samples: where a sample's sun ray
+ * crossed the previous plane, or outside it entered through a side face. */
+SL_INLINE bool sl_sweep_in_plane(SL_REAL u, SL_REAL w, SL_REAL n1, SL_REAL n2)
+{
+  return !(u < -0.5 || w < -0.5 || u > n1 - 0.5 || w > n2 - 0.5);
+}
+
+/* Between the plane's outermost samples and the box's faces the light has just entered: the weight
+ * of fresh sunlight (ln I = 0, n = 0) in the state there, 0 at the outermost sample rising to 1 at
+ * the face half a sample beyond, instead of holding the edge sample's state. */
+SL_INLINE SL_REAL sl_sweep_fresh_weight(SL_REAL u, SL_REAL w, SL_REAL n1, SL_REAL n2)
+{
+  SL_REAL fresh = 0.0;
+  if (u < 0.0) fresh = sl_fmax(fresh, -2.0 * u);
+  if (u > n1 - 1.0) fresh = sl_fmax(fresh, 2.0 * (u - (n1 - 1.0)));
+  if (w < 0.0) fresh = sl_fmax(fresh, -2.0 * w);
+  if (w > n2 - 1.0) fresh = sl_fmax(fresh, 2.0 * (w - (n2 - 1.0)));
+  return fresh > 1.0 ? 1.0 : fresh;
+}
+
+/* ---- The resolve of the volume layer (resolve.c, shaders/volume_resolve.glsl) ---- */
+
+/* Where along a pixel's ray the air in front of the volume ends (Riley et al. 2004, sec. 5: the
+ * volume's light is seen through the air to the content's midplane): the midplane at distance
+ * `mid` along the view axis, over the ray's cosine `along` with that axis, kept within the ray's
+ * span [t0, t1] through the content; the span's middle for a ray across the axis. */
+SL_INLINE SL_REAL sl_resolve_split(SL_REAL along, SL_REAL mid, SL_REAL t0, SL_REAL t1)
+{
+  SL_REAL t = sl_fabs(along) > 1e-12 ? mid / along : 0.5 * (t0 + t1);
+  return t < t0 ? t0 : t > t1 ? t1 : t;
+}
+
+/* The volume layer at one wavelength: its accumulated light acc seen through the air's
+ * transparency front_t up to the split, plus the air's own light `front` over that stretch, which
+ * the volume's coverage (1 - its transparency) carries: where the volume covers nothing the air in
+ * front is the background's, drawn with it. */
+SL_INLINE SL_REAL sl_resolve_layer(SL_REAL acc, SL_REAL coverage, SL_REAL front, SL_REAL front_t)
+{
+  return front_t * acc + coverage * front;
+}
+
+/* The layer's depth from its opacity-weighted depth sum: `none` (infinity) where it covers almost
+ * nothing, since the sum over a coverage near 0 is all rounding. */
+SL_INLINE SL_REAL sl_resolve_depth(SL_REAL depth_sum, SL_REAL coverage, SL_REAL none)
+{
+  return coverage > 1e-4 ? depth_sum / coverage : none;
 }
 
 #ifndef SL_GLSL

@@ -323,8 +323,7 @@ static inline __attribute__((always_inline)) void slicer_resolve(slicer_frame *f
 #pragma omp for schedule(static)
   for (size_t q = 0; q < np; ++q) {
     const double *rq = ray + q * RAY_STRIDE;
-    double t_mid = fabs(rq[5]) > 1e-12 ? (h_center - h_o) / rq[5] : 0.5 * (rq[3] + rq[4]);
-    t_mid = t_mid < rq[3] ? rq[3] : t_mid > rq[4] ? rq[4] : t_mid;
+    const double t_mid = sl_resolve_split(rq[5], h_center - h_o, rq[3], rq[4]);
     sl__resolve_pixel(r, view, rq, t_mid, acc + q * acc_stride, img, q);
   }
 }

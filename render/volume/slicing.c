@@ -2,6 +2,7 @@
  * perpendicular to, how many slices resolve the grid, the slices' range, the light buffer's
  * lattice and the light texels' kept spans. */
 #include "slicer.h"
+#include "sl_guards.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -35,7 +36,7 @@ void sl_choose_slicing(const double view_dir[3], const double sun_dir[3], sl_sli
   memcpy(out->half_vector, h, sizeof h);
   out->back_to_front = sign < 0.0;
   double c = sl_dot3(view_dir, sun_dir);
-  c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+  c = sl_clamp_cosine(c);
   out->eye_sun_angle_deg = acos(c) * 180.0 / M_PI;
 }
 

@@ -13,6 +13,7 @@
 #include <vtkTextureObject.h>
 #include <vtk_glew.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -24,6 +25,32 @@
 #include "vtk_png.h"
 
 namespace sl_test {
+
+// Failed checks, counted; the first 20 printed with the case and the two values.
+inline int &failures()
+{
+  static int count = 0;
+  return count;
+}
+inline void check(bool ok, const char *what, int index, double got, double want)
+{
+  if (ok) return;
+  if (++failures() <= 20) std::fprintf(stderr, "FAIL %s case %d: %.9g, expected %.9g\n", what, index, got, want);
+}
+inline bool close(double a, double b, double rel, double abs_tol)
+{
+  return std::isfinite(a) && std::fabs(a - b) <= rel * std::fabs(b) + abs_tol;
+}
+
+// Fixed-seed uniform numbers in [0, 1): the cases are the same on every run.
+struct Lcg {
+  unsigned long long s = 0x9e3779b97f4a7c15ull;
+  double next()
+  {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(s >> 11) / 9007199254740992.0;
+  }
+};
 
 // The build embeds the file itself; a stale build is the only way for the two to differ.
 inline bool embedded_text_is_file(const std::string &source_dir, const char *relative, const char *embedded)

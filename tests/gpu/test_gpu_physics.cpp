@@ -23,28 +23,9 @@ extern "C" {
 
 namespace {
 
-int failures = 0;
-
-void check(bool ok, const char *what, int index, double gpu, double cpu)
-{
-  if (ok) return;
-  if (++failures <= 20) std::fprintf(stderr, "FAIL %s case %d: GPU %.9g, CPU %.9g\n", what, index, gpu, cpu);
-}
-
-bool close(double gpu, double cpu, double rel, double abs_tol)
-{
-  return std::isfinite(gpu) && std::fabs(gpu - cpu) <= rel * std::fabs(cpu) + abs_tol;
-}
-
-// Fixed-seed uniform numbers in [0, 1): the cases are the same on every run.
-struct Lcg {
-  unsigned long long s = 0x9e3779b97f4a7c15ull;
-  double next()
-  {
-    s = s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(s >> 11) / 9007199254740992.0;
-  }
-};
+using sl_test::check;
+using sl_test::close;
+using sl_test::Lcg;
 
 const char *kShader = R"GLSL(//VTK::System::Dec
 //SL::Physics
@@ -219,11 +200,11 @@ int main(int argc, char **argv)
               closed, past_n);
   if (taylor < 10 || closed < 10 || past_n < 10) {
     std::fprintf(stderr, "FAIL the cases do not reach every branch\n");
-    ++failures;
+    ++sl_test::failures();
   }
   model.Release(gpu.window());
   sl_light_model_free(&m);
   sl_optics_free(optics);
-  std::printf("%s\n", failures ? "FAILED" : "passed");
-  return failures ? 1 : 0;
+  std::printf("%s\n", sl_test::failures() ? "FAILED" : "passed");
+  return sl_test::failures() ? 1 : 0;
 }
