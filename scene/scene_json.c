@@ -116,7 +116,7 @@ static int fail_naming(sl_error *err, int rc, const char *path)
   return sl_fail(err, rc, "%s: %s", path, message);
 }
 
-int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err)
+int sl_scene_file_args(const char *path, sl_scene_args *out, sl_error *err)
 {
   FILE *f = fopen(path, "rb");
   if (!f) return sl_fail(err, SL_ERR_IO, "%s: cannot open the scene file", path);
@@ -139,9 +139,15 @@ int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err)
   }
   fclose(f);
   text[size] = '\0';
-  sl_scene_args args;
-  int rc = sl_scene_json_args(text, path, &args, err);
+  const int rc = sl_scene_json_args(text, path, out, err);
   free(text);
+  return rc;
+}
+
+int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err)
+{
+  sl_scene_args args;
+  int rc = sl_scene_file_args(path, &args, err);
   if (rc) return rc;
   rc = sl_settings_parse_args(s, args.argc, args.argv, err);
   if (rc) rc = fail_naming(err, rc, path);

@@ -115,6 +115,8 @@ typedef struct sl_scene_args {
   char **argv;
 } sl_scene_args;
 int sl_scene_json_args(const char *text, const char *path, sl_scene_args *out, sl_error *err);
+/* The same from the file at path. */
+int sl_scene_file_args(const char *path, sl_scene_args *out, sl_error *err);
 void sl_scene_args_free(sl_scene_args *a);
 /* Settings from a scene file (read, then sl_scene_json_args and sl_settings_parse_args). */
 int sl_settings_from_scene_file(sl_settings *s, const char *path, sl_error *err);

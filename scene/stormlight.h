@@ -13,6 +13,7 @@
 #include "sl_optics.h"
 #include "sl_renderer.h"
 #include "sl_scene_build.h"
+#include "sl_scene_frame.h"
 #include "sl_settings.h"
 #include "sl_sky.h"
 #include "sl_status.h"

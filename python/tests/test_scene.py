@@ -1,0 +1,150 @@
+"""stormlight.Scene against the command line, its errors, its threads and its memory."""
+import os
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import stormlight
+
+SMALL = dict(width=72, height=48, sun_elevation=30, sun_azimuth=200)
+
+
+def test_options_come_from_the_table():
+    opts = stormlight.options()
+    assert opts["width"]["type"] == "int" and opts["width"]["default"] == "512"
+    assert opts["light-volume"]["type"] == "flag"
+    assert "multiple" in opts["lighting"]["choices"]
+    assert all(o["help"] for o in opts.values())
+
+
+def cli_frame(cli, tmp_path, *args):
+    out = tmp_path / "cli.exr"
+    cli("render", *args, "--cpu-composite", "--float", "--quiet", "--out", out)
+    return stormlight.Frame.read_exr(out)
+
+
+def flags(options):
+    args = []
+    for k, v in options.items():
+        args += ["--" + k.replace("_", "-"), v]
+    return args
+
+
+def assert_same_frame(a, b):
+    assert a.rgba.shape == b.rgba.shape
+    scale = np.sqrt(np.sum(b.rgb.astype(np.float64) ** 2))
+    assert np.sqrt(np.sum((a.rgb.astype(np.float64) - b.rgb) ** 2)) <= 1e-6 * scale
+    assert np.allclose(a.alpha, b.alpha, rtol=1e-6, atol=0)
+    assert np.array_equal(np.isinf(a.depth), np.isinf(b.depth))
+    finite = np.isfinite(b.depth)
+    assert np.allclose(a.depth[finite], b.depth[finite], rtol=1e-6)
+
+
+def test_frame_equals_the_command_line(cli, datasets, tmp_path):
+    storm = datasets / "cumulus.nc"
+    frame = stormlight.Scene(storm, **SMALL).render()
+    assert frame.rgba.dtype == np.float32 and frame.rgba.shape == (48, 72, 4)
+    assert np.isfinite(frame.rgba).all() and frame.alpha.max() > 0.5  # the cloud is in view
+    assert_same_frame(frame, cli_frame(cli, tmp_path, storm, *flags(SMALL)))
+
+
+def test_round_earth_and_moved_origin_equal_the_command_line(cli, shared, tmp_path):
+    storm = shared / "data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc"
+    options = dict(width=64, height=40, sun_elevation=20, sun_azimuth=120, curvature="drop",
+                   origin=(25.2, -88.0), max_fields=4, view_elevation=3)
+    frame = stormlight.Scene(storm, **options).render()
+    flat = stormlight.Scene(storm, **{**options, "curvature": "flat", "origin": None}).render()
+    assert np.abs(frame.rgb - flat.rgb).max() > 1e-3  # the options change the frame
+    assert_same_frame(frame, cli_frame(cli, tmp_path, storm, *flags({**options, "origin": "25.2,-88.0"})))
+
+
+def test_scene_file_with_overrides_equals_render_scene(cli, datasets, tmp_path):
+    path = datasets / "scenes/fig5_rainbow.json"
+    scene = stormlight.Scene.from_json(path, width=64, height=48)
+    assert scene.options["width"] == 64 and scene.options["sun-elevation"] == "25"  # the file's, as text
+    frame = scene.render()
+    assert_same_frame(frame, cli_frame(cli, tmp_path, "--scene", path, "--width", 64, "--height", 48))
+    again = stormlight.Scene.from_json(path)
+    back = tmp_path / "back.json"
+    back.write_text(again.to_json())
+    assert stormlight.Scene.from_json(back).options == again.options
+
+
+def test_bad_input_raises_one_line(datasets, tmp_path):
+    storm = datasets / "cumulus.nc"
+    cases = [(dict(colour="red"), ValueError, "unknown scene key 'colour'"),
+             (dict(width=0), ValueError, "--width"),
+             (dict(curvature="bent"), ValueError, "--curvature"),
+             (dict(sun_azimuth=90), ValueError, "--sun-elevation"),
+             (dict(light_volume="yes"), ValueError, "flag")]
+    for options, kind, says in cases:
+        with pytest.raises(kind) as e:
+            stormlight.Scene(storm, **options)
+        assert says in str(e.value) and "\n" not in str(e.value)
+    missing = tmp_path / "nothing.nc"
+    with pytest.raises(OSError) as e:
+        stormlight.Scene(missing, **SMALL).render()
+    assert str(missing) in str(e.value) and "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="--terrain is drawn by the stormlight command only"):
+        stormlight.Scene(storm, terrain=True, **SMALL).render()
+    out = tmp_path / "not-written.exr"
+    frame = stormlight.Scene(storm, **SMALL).render()
+    with pytest.raises(OSError):
+        frame.save_exr(tmp_path / "no-such-folder" / "x.exr")
+    assert not out.exists()
+
+
+def test_close_frees_and_rebuilds(datasets):
+    with stormlight.Scene(datasets / "cumulus.nc", **SMALL) as scene:
+        first = scene.render()
+        assert scene._renderer.built
+        scene.close()
+        assert not scene._renderer.built
+        assert np.array_equal(scene.render().rgba, first.rgba)
+    assert not scene._renderer.built
+    png = first._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_two_threads_render_at_once(datasets):
+    a = stormlight.Scene(datasets / "cumulus.nc", **SMALL).build()
+    b = stormlight.Scene(datasets / "cumulonimbus.nc", **SMALL).build()
+    a.render(threads=1), b.render(threads=1)  # warm
+    t0 = time.perf_counter()
+    alone = [a.render(threads=1), b.render(threads=1)]
+    serial = time.perf_counter() - t0
+    results = [None, None]
+
+    def draw(i, scene):
+        results[i] = scene.render(threads=1)
+
+    workers = [threading.Thread(target=draw, args=(i, s)) for i, s in enumerate((a, b))]
+    t0 = time.perf_counter()
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    together = time.perf_counter() - t0
+    for r, s in zip(results, alone):
+        assert np.array_equal(r.rgba, s.rgba) and np.array_equal(r.depth, s.depth)
+    if os.cpu_count() >= 2:
+        assert together < 0.9 * serial, f"two threads took {together:.3f} s, one after the other {serial:.3f} s"
+
+
+def resident_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def test_memory_is_stable_over_many_renders(datasets):
+    scene = stormlight.Scene(datasets / "cumulus.nc", width=32, height=24, sun_elevation=30, sun_azimuth=200)
+    for _ in range(10):
+        scene.render(threads=1)
+    after_ten = resident_bytes()
+    for i in range(190):
+        scene.render(threads=1)
+        if i % 50 == 0:
+            scene.close()  # the storm and tables freed and built again, too
+    assert resident_bytes() <= 1.05 * after_ten
