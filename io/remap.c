@@ -72,6 +72,11 @@ static int remap_species(const remap_context *x, const sl_level_reader *r, const
     if (!isfinite(v))
       return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
                      "declare as _FillValue or missing_value)", path, sp->variable, s->k0 + (int)(i3 / n2));
+    /* Advection leaves small negatives (WRF's are ~1e-6 kg/kg): clamped and counted. Below
+     * -0.01 kg/kg, the bound the CF vapour has, it is not noise but a wrong field or wrong units. */
+    if (v < -0.01)
+      return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio "
+                     "(beyond the clamping of advection noise, -0.01)", path, sp->variable, v, s->k0 + (int)(i3 / n2));
     if (v < 0.0) {
       st->negative_count++;
       v = 0.0;

@@ -379,6 +379,75 @@ static PyObject *module_read_exr(PyObject *Py_UNUSED(module), PyObject *args)
   return out;
 }
 
+/* A list of str from count fixed-size C strings. */
+static PyObject *text_list(const char (*texts)[24], int count)
+{
+  PyObject *list = PyList_New(count);
+  for (int i = 0; list && i < count; ++i) {
+    PyObject *s = PyUnicode_FromString(texts[i]);
+    if (!s) Py_CLEAR(list);
+    else PyList_SET_ITEM(list, i, s);
+  }
+  return list;
+}
+
+/* storm_info(path) -> dict: what sl_storm_read_info finds in a storm file without loading it
+ * (kind, grid, projection, scheme, species, times). */
+static PyObject *module_storm_info(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  PyObject *path_obj;
+  if (!PyArg_ParseTuple(args, "O&", PyUnicode_FSConverter, &path_obj)) return NULL;
+  sl_storm_info *info = malloc(sizeof *info);
+  if (!info) {
+    Py_DECREF(path_obj);
+    return PyErr_NoMemory();
+  }
+  sl_error err = {0};
+  int rc;
+  Py_BEGIN_ALLOW_THREADS
+  rc = sl_storm_read_info(PyBytes_AS_STRING(path_obj), info, &err);
+  Py_END_ALLOW_THREADS
+  Py_DECREF(path_obj);
+  if (rc) {
+    free(info);
+    return raise_sl_error(&err);
+  }
+  PyObject *species = PyList_New(0);
+  for (int i = 0; species && i < info->nspecies; ++i) {
+    const sl_species *sp = &info->species[i];
+    PyObject *d = Py_BuildValue("{s:s,s:s,s:s,s:s,s:s,s:O}", "variable", sp->variable, "number_variable",
+                                sp->number_variable, "kind", sp->kind ? sp->kind : "",
+                                "type", sl_particle_name((sl_particle)sp->warm), "type_below_0C",
+                                sl_particle_name((sl_particle)sp->cold), "sized",
+                                sl_species_sized(sp) ? Py_True : Py_False);
+    if (!d || PyList_Append(species, d)) Py_CLEAR(species);
+    Py_XDECREF(d);
+  }
+  PyObject *elapsed = PyList_New(0);
+  for (int i = 0; elapsed && info->has_elapsed && i < info->ntimes; ++i) {
+    PyObject *x = PyFloat_FromDouble(info->elapsed_s[i]);
+    if (!x || PyList_Append(elapsed, x)) Py_CLEAR(elapsed);
+    Py_XDECREF(x);
+  }
+  const int nt = info->has_times ? (info->ntimes < SL_MAX_TIMES ? info->ntimes : SL_MAX_TIMES) : 0;
+  const char *kind = info->kind == SL_STORM_WRF ? "WRF" : info->kind == SL_STORM_CM1 ? "CM1" : "CF";
+  PyObject *out = species && elapsed
+                      ? Py_BuildValue("{s:s,s:s,s:i,s:(iii),s:i,s:(dd),s:i,s:s,s:s,s:N,s:N,s:s,s:N,s:N}", "path",
+                                      info->path, "kind", kind, "format", info->format, "shape", info->nx, info->ny,
+                                      info->nz, "ntimes", info->ntimes, "spacing", info->dx, info->dy, "map_proj",
+                                      info->map_proj, "scheme", info->scheme, "vertical", info->vertical,
+                                      "species", species, "times", text_list(info->times, nt), "calendar",
+                                      info->calendar, "sun_times", text_list(info->sun_times, nt),
+                                      "elapsed_seconds", elapsed)
+                      : NULL;
+  if (!out) {
+    Py_XDECREF(species);
+    Py_XDECREF(elapsed);
+  }
+  free(info);
+  return out;
+}
+
 static PyObject *module_version(PyObject *Py_UNUSED(module), PyObject *Py_UNUSED(ignored))
 {
   return PyUnicode_FromString(sl_version());
@@ -392,6 +461,7 @@ static PyMethodDef module_methods[] = {
      "write_png(path, width, height, rgba, exposure)"},
     {"scene_args", module_scene_args, METH_VARARGS, "scene_args(path) -> a scene file as render's arguments."},
     {"read_exr", module_read_exr, METH_VARARGS, "read_exr(path) -> dict of an EXR frame's buffers."},
+    {"storm_info", module_storm_info, METH_VARARGS, "storm_info(path) -> what a storm file holds."},
     {"version", module_version, METH_NOARGS, "libstormlight's version."},
     {NULL, NULL, 0, NULL}};
 

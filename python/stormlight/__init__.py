@@ -12,6 +12,7 @@ underscores; ``stormlight.options()`` lists them with their help. docs/PYTHON.md
 from ._stormlight import version as _version
 from .frame import Frame
 from .scene import Scene, options
+from .storm import Storm, open  # noqa: A004
 
 __version__ = _version()
-__all__ = ["Frame", "Scene", "options", "__version__"]
+__all__ = ["Frame", "Scene", "Storm", "open", "options", "__version__"]

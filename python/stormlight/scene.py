@@ -61,13 +61,20 @@ def _text(key: str, value: Any) -> Optional[str]:
 class Scene:
     """A storm and the options of ``stormlight render``, built once and rendered many times.
 
-    ``Scene("wrfout.nc", width=640, height=360, sun_elevation=8, sun_azimuth=250)`` reads and
+    ``Scene("wrfout.nc", width=640, height=360, sun_elevation=8, sun_azimuth=250)`` (or a Storm
+    from ``stormlight.open``, ``Storm.from_xarray`` or ``Storm.from_arrays`` in place of the path,
+    its load options taken with it) reads and
     checks every option at once (``ValueError`` with the command line's one-line message); the
     storm is loaded, the air and the particle tables built on the first ``render()`` and kept
     for the next ones. ``close()`` (or a ``with`` block) frees them at once.
     """
 
-    def __init__(self, data: PathLike, **options: Any) -> None:
+    def __init__(self, data: "PathLike | Storm", **options: Any) -> None:
+        self._storm = None
+        if hasattr(data, "load_options") and hasattr(data, "path"):  # a Storm: its file and load options
+            self._storm = data  # kept: a Storm from arrays owns its file while the scene reads it
+            options = {**{k.replace("-", "_"): v for k, v in data.load_options.items()}, **options}
+            data = data.path
         self._data = os.fspath(data)
         self._options: Dict[str, Any] = {}
         for name, value in options.items():
@@ -144,16 +151,26 @@ class Scene:
 
         threads: OpenMP threads for this render (0: the scene's ``threads`` or the default).
         """
-        return Frame._from_render(self._renderer.render(threads=threads), self._exposure())
+        return Frame._from_render(self._call(self._renderer.render, threads=threads), self._exposure())
 
     def build(self) -> "Scene":
         """Loads the storm and builds the air, the tables and the renderer now (else on first render)."""
-        self._renderer.build()
+        self._call(self._renderer.build)
         return self
 
     def placement(self) -> Dict[str, Any]:
         """The grid (shape, origin and spacing in metres) and the sun (elevation, compass azimuth)."""
-        return self._renderer.placement()
+        return self._call(self._renderer.placement)
+
+    def _call(self, fn, *args, **kwargs):
+        """fn's errors about a Storm's temporary file name what it was made from instead."""
+        try:
+            return fn(*args, **kwargs)
+        except (ValueError, OSError) as e:
+            label = getattr(self._storm, "label", None)
+            if label and self._data in str(e):
+                raise type(e)(str(e).replace(self._data, label)) from None
+            raise
 
     def _exposure(self) -> float:
         value = self._options.get("exposure")

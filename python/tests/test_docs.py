@@ -22,3 +22,5 @@ def test_python_md_snippets_run(capsys):
     printed = capsys.readouterr().out
     assert "(300, 480, 3) float32" in printed and "unknown scene key 'colour'" in printed
     assert (ROOT / "out/python_supercell.png").stat().st_size > 1000
+    assert "\n0.0\n" in printed  # the xarray cut and the file give one frame
+    assert (ROOT / "out/python_bubble.png").stat().st_size > 1000

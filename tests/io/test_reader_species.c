@@ -220,6 +220,18 @@ static void test_split_and_double_moment(void)
     CHECK(isfinite(eta_at(&f, SL_RAIN, 1, 0)) && eta_at(&f, SL_RAIN, 1, 0) > 0.0);
     sl_storm_frame_free(&f);
   }
+  /* A negative mixing ratio: advection noise (-1e-3) clamped and counted; -0.5 kg/kg is no noise
+   * but a wrong field, refused naming the variable. */
+  const char *noise = wrf("noise", 10, 5.0, TWO_TIMES, "float QRAIN" Q3, "QRAIN = -1e-3, 1e-3, 0, 0, 1e-3, 1e-3, 0, 0 ;");
+  if (!load(noise, NULL, &f)) {
+    CHECK(f.stats[SL_RAIN].negative_count == 1);
+    sl_storm_frame_free(&f);
+  }
+  const char *wrong = wrf("wrongsign", 10, 5.0, TWO_TIMES, "float QRAIN" Q3, "QRAIN = -0.5, 1e-3, 0, 0, 1e-3, 1e-3, 0, 0 ;");
+  sl_error e = {0};
+  sl_load_options zero = {0};
+  CHECK(sl_storm_load(wrong, &zero, &f, &e) == SL_ERR_DATA && strstr(e.message, "QRAIN = -0.5") &&
+        strstr(e.message, "not a physical mixing ratio"));
 }
 
 /* Shape rules typed from the schemes' papers, independently of render/core: Morrison et al. 2005
