@@ -448,6 +448,46 @@ static PyObject *module_storm_info(PyObject *Py_UNUSED(module), PyObject *args)
   return out;
 }
 
+/* compare(width, height, a, b) -> dict: sl_image_compare of two RGBA buffers (b the reference), the
+ * metrics of `stormlight compare`. */
+static PyObject *module_compare(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  int width, height;
+  Py_buffer a = {0}, b = {0};
+  if (!PyArg_ParseTuple(args, "iiy*y*", &width, &height, &a, &b)) return NULL;
+  sl_image ia, ib;
+  PyObject *out = NULL;
+  if (!image_from_buffers(&a, NULL, NULL, width, height, &ia) && !image_from_buffers(&b, NULL, NULL, width, height, &ib)) {
+    sl_image_metrics m;
+    sl_error err = {0};
+    if (sl_image_compare(&ia, &ib, &m, &err)) out = raise_sl_error(&err);
+    else
+      out = Py_BuildValue("{s:d,s:d,s:d,s:l}", "relative_rmse", m.relative_rmse, "max_abs_diff", m.max_abs_diff,
+                          "psnr_db", m.psnr_db, "nonfinite_pixels", m.nonfinite);
+  }
+  PyBuffer_Release(&a);
+  PyBuffer_Release(&b);
+  return out;
+}
+
+/* sun_position(iso8601, lat, lon) -> dict: the sun's apparent position (sl_solar_position_compute,
+ * with refraction, as `stormlight sun`). */
+static PyObject *module_sun_position(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  const char *when;
+  double lat, lon;
+  if (!PyArg_ParseTuple(args, "sdd", &when, &lat, &lon)) return NULL;
+  sl_utc t;
+  sl_solar_position p;
+  sl_error err = {0};
+  if (sl_utc_parse_iso8601(when, &t, &err) || sl_solar_position_compute(&t, lat, lon, NULL, &p, &err))
+    return raise_sl_error(&err);
+  return Py_BuildValue("{s:d,s:d,s:d,s:d,s:d,s:d,s:d,s:N,s:O}", "elevation", p.elevation_deg, "azimuth",
+                       p.azimuth_deg, "zenith", p.zenith_deg, "elevation_true", p.elevation_true_deg, "declination",
+                       p.declination_deg, "hour_angle", p.hour_angle_deg, "julian_day", p.julian_day, "direction",
+                       vector3(p.direction), "night", p.night ? Py_True : Py_False);
+}
+
 static PyObject *module_version(PyObject *Py_UNUSED(module), PyObject *Py_UNUSED(ignored))
 {
   return PyUnicode_FromString(sl_version());
@@ -462,6 +502,8 @@ static PyMethodDef module_methods[] = {
     {"scene_args", module_scene_args, METH_VARARGS, "scene_args(path) -> a scene file as render's arguments."},
     {"read_exr", module_read_exr, METH_VARARGS, "read_exr(path) -> dict of an EXR frame's buffers."},
     {"storm_info", module_storm_info, METH_VARARGS, "storm_info(path) -> what a storm file holds."},
+    {"compare", module_compare, METH_VARARGS, "compare(width, height, a, b) -> the metrics of stormlight compare."},
+    {"sun_position", module_sun_position, METH_VARARGS, "sun_position(iso8601, lat, lon) -> the sun's position."},
     {"version", module_version, METH_NOARGS, "libstormlight's version."},
     {NULL, NULL, 0, NULL}};
 

@@ -11,8 +11,9 @@ underscores; ``stormlight.options()`` lists them with their help. docs/PYTHON.md
 """
 from ._stormlight import version as _version
 from .frame import Frame
+from .numbers import compare, sun_position
 from .scene import Scene, options
 from .storm import Storm, open  # noqa: A004
 
 __version__ = _version()
-__all__ = ["Frame", "Scene", "Storm", "open", "options", "__version__"]
+__all__ = ["Frame", "Scene", "Storm", "compare", "open", "options", "sun_position", "__version__"]

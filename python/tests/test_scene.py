@@ -148,3 +148,36 @@ def test_memory_is_stable_over_many_renders(datasets):
         if i % 50 == 0:
             scene.close()  # the storm and tables freed and built again, too
     assert resident_bytes() <= 1.05 * after_ten
+
+
+def test_compare_gives_the_command_lines_metrics(cli, datasets, tmp_path):
+    a = stormlight.Scene(datasets / "cumulus.nc", **SMALL).render()
+    b = stormlight.Scene(datasets / "cumulus.nc", **{**SMALL, "xi": 0.2}).render()
+    a.save_exr(tmp_path / "a.exr", float32=True)
+    b.save_exr(tmp_path / "b.exr", float32=True)
+    import json
+    r = __import__("subprocess").run([os.environ.get("SL_STORMLIGHT", "stormlight"), "compare", tmp_path / "a.exr",
+                                      tmp_path / "b.exr", "--json", "--threshold", "1"], capture_output=True, text=True)
+    command = json.loads(r.stdout)
+    m = stormlight.compare(a, b)
+    assert m["relative_rmse"] > 1e-3  # xi changes the frame
+    for key in ("relative_rmse", "max_abs_diff", "psnr_db"):
+        assert abs(m[key] - command[key]) <= 1e-9 * abs(command[key]), key
+    assert stormlight.compare(a, a)["relative_rmse"] == 0.0
+
+
+def test_sun_position_at_the_june_solstice():
+    # 2024-06-20 20:51 UTC was the solstice: the declination is the obliquity, 23.436 degrees
+    # (Astronomical Almanac); near the subsolar point (noon at 132.75 W, less the equation of
+    # time's 1.7 minutes, 0.4 degrees) the sun stands within a degree of the zenith.
+    p = stormlight.sun_position("2024-06-20T20:51:00Z", 23.436, -132.9)
+    assert abs(p["declination"] - 23.436) < 0.01
+    assert p["elevation"] > 89.0 and not p["night"]
+    import datetime as dt
+    q = stormlight.sun_position(dt.datetime(2024, 6, 20, 20, 51, tzinfo=dt.timezone.utc), 23.436, -132.9)
+    assert q["elevation"] == p["elevation"]
+    # Twelve hours on, at local midnight, the sun is 90 - 2 x 23.436 degrees below the horizon.
+    night = stormlight.sun_position("2024-06-21T08:51:00Z", 23.436, -132.9)
+    assert night["night"] and abs(night["elevation"] + 43.128) < 0.6
+    with pytest.raises(ValueError):
+        stormlight.sun_position("2024-02-30T00:00Z", 0, 0)
