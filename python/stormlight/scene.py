@@ -9,7 +9,9 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
-from typing import Any, Dict, Mapping, Optional, Union
+import sys
+import time as _time
+from typing import Any, Dict, Iterator, Mapping, Optional, Sequence, Union
 
 from . import _stormlight
 from .frame import Frame
@@ -152,6 +154,35 @@ class Scene:
         threads: OpenMP threads for this render (0: the scene's ``threads`` or the default).
         """
         return Frame._from_render(self._call(self._renderer.render, threads=threads), self._exposure())
+
+    def series(self, times: Optional[Sequence[int]] = None, files: Optional[Sequence[PathLike]] = None,
+               threads: int = 0, progress: bool = False) -> Iterator[Frame]:
+        """Frames of this scene at other times: ``times`` (indices into the storm file; all of
+        them by default), or ``files`` (one file per time, as CM1 writes them), each with this
+        scene's options. Each time loads its storm; the particle tables come from the on-disk cache
+        after the first (docs/OPTICS.md), and each time's storm is freed before the next. With
+        ``progress`` a line per frame goes to stderr."""
+        if files is not None and times is not None:
+            raise ValueError("series: give times or files, not both")
+        if files is not None:
+            steps = [(os.fspath(f), self._options.get("time")) for f in files]
+        else:
+            if times is None:
+                times = range(max(_stormlight.storm_info(self._data)["ntimes"], 1))
+            steps = [(self._data, int(t)) for t in times]
+        for i, (data, t) in enumerate(steps):
+            options = dict(self._options)
+            if t is None:
+                options.pop("time", None)
+            else:
+                options["time"] = t
+            start = _time.perf_counter()
+            with Scene(data, **{k.replace("-", "_"): v for k, v in options.items()}) as scene:
+                frame = scene.render(threads=threads)
+            if progress:
+                print(f"series: frame {i + 1}/{len(steps)} ({os.path.basename(data)}, time {t if t is not None else 0}) "
+                      f"in {_time.perf_counter() - start:.2f} s", file=sys.stderr, flush=True)
+            yield frame
 
     def build(self) -> "Scene":
         """Loads the storm and builds the air, the tables and the renderer now (else on first render)."""

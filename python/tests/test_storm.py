@@ -167,3 +167,19 @@ def test_arrays_bad_input_raises_one_line(tmp_path):
     good.close()
     import os
     assert not os.path.exists(path)
+
+
+def test_series_equals_each_time_alone(shared, capsys):
+    view = dict(max_fields=4, view_elevation=25, fov=30, **SMALL)
+    scene = stormlight.Scene(shared / KATRINA, **view)
+    frames = list(scene.series(times=[0, 3], progress=True))
+    assert "series: frame 2/2" in capsys.readouterr().err
+    for t, frame in zip((0, 3), frames):
+        alone = stormlight.Scene(shared / KATRINA, time=t, **view).render()
+        assert np.array_equal(frame.rgba, alone.rgba)
+    assert not np.array_equal(frames[0].rgba, frames[1].rgba)  # the storm moved
+    assert len(list(stormlight.Scene(shared / KATRINA, width=16, height=12, **{k: SMALL[k] for k in
+                                                                           ("sun_elevation", "sun_azimuth")}).series())) == 4
+    files = [shared / "data/cm1/cm1_supercell_t060min.nc", shared / "data/cm1/cm1_supercell_t070min.nc"]
+    cm1 = list(stormlight.Scene(files[0], **SMALL).series(files=files))
+    assert np.array_equal(cm1[1].rgba, stormlight.Scene(files[1], **SMALL).render().rgba)
