@@ -23,6 +23,14 @@ const char *sl_scene_frame_unsupported(const sl_settings *s);
 int sl_scene_render_frame(const sl_settings *s, sl_built_scene *b, sl_camera *cam, sl_image *frame,
                           sl_render_stats *stats, sl_error *err);
 
+/* The same frame by the Monte Carlo reference (render/reference, docs/REFERENCE.md): the built
+ * storm as a reference medium at the tables' wavelengths, the same sun, air, camera and round
+ * ground, spp samples per pixel and wavelength from seed (skylight: scattered paths that leave
+ * the box collect the sky). stderr_rgb (3 floats per pixel, may be NULL) receives each channel's
+ * standard error. The scene needs its particle tables (not the low-albedo model's). */
+int sl_scene_reference_frame(const sl_settings *s, const sl_built_scene *b, long spp, unsigned long long seed,
+                             int skylight, sl_camera *cam, sl_image *frame, float *stderr_rgb, sl_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -146,6 +146,20 @@ static PyObject *bytes_of(const float *values, size_t count)
   return PyBytes_FromStringAndSize((const char *)values, (Py_ssize_t)(count * sizeof(float)));
 }
 
+/* A frame as a dict: width, height, rgba/depth/transparency as bytes of float32 (rows from the
+ * top), the camera, the sun's direction and the seconds it took. */
+static PyObject *frame_dict(const sl_image *frame, const sl_camera *cam, const double sun[3], double seconds)
+{
+  const size_t n = (size_t)frame->width * frame->height;
+  PyObject *camera = Py_BuildValue("{s:N,s:N,s:N,s:d}", "position", vector3(cam->position), "target",
+                                   vector3(cam->target), "up", vector3(cam->up), "fov", cam->fov_deg);
+  return camera ? Py_BuildValue("{s:i,s:i,s:N,s:N,s:N,s:N,s:N,s:d}", "width", frame->width, "height", frame->height,
+                                "rgba", bytes_of(frame->rgba, 4 * n), "depth", bytes_of(frame->depth, n),
+                                "transparency", bytes_of(frame->transparency, n), "camera", camera,
+                                "sun_direction", vector3(sun), "seconds", seconds)
+                : NULL;
+}
+
 /* render(threads=0) -> dict: the frame as render --cpu-composite draws it (sl_scene_render_frame):
  * width, height, rgba/depth/transparency as bytes of float32 (rows from the top), the camera and
  * the sun's direction (toward the sun, in the grid's axes) and the time it took. */
@@ -176,15 +190,58 @@ static PyObject *renderer_render(Renderer *self, PyObject *args, PyObject *kwarg
   PyThread_release_lock(self->lock);
   Py_END_ALLOW_THREADS
   if (rc) return raise_sl_error(&err);
-  const size_t n = (size_t)frame.width * frame.height;
-  PyObject *camera = Py_BuildValue("{s:N,s:N,s:N,s:d}", "position", vector3(cam.position), "target",
-                                   vector3(cam.target), "up", vector3(cam.up), "fov", cam.fov_deg);
-  PyObject *out = camera ? Py_BuildValue("{s:i,s:i,s:N,s:N,s:N,s:N,s:N,s:d,s:i,s:O}", "width", frame.width,
-                                         "height", frame.height, "rgba", bytes_of(frame.rgba, 4 * n), "depth",
-                                         bytes_of(frame.depth, n), "transparency", bytes_of(frame.transparency, n),
-                                         "camera", camera, "sun_direction", vector3(sun), "seconds", seconds,
-                                         "slices", stats.slices, "night", stats.night ? Py_True : Py_False)
-                         : NULL;
+  PyObject *out = frame_dict(&frame, &cam, sun, seconds);
+  sl_image_free(&frame);
+  PyObject *slices = out ? PyLong_FromLong(stats.slices) : NULL;
+  if (out && (!slices || PyDict_SetItemString(out, "slices", slices) ||
+              PyDict_SetItemString(out, "night", stats.night ? Py_True : Py_False)))
+    Py_CLEAR(out);
+  Py_XDECREF(slices);
+  return out;
+}
+
+/* reference(spp, seed=1, skylight=False, threads=0) -> dict: the same frame by the Monte Carlo
+ * reference (sl_scene_reference_frame), with "stderr" (3 float32 per pixel: each channel's
+ * standard error). */
+static PyObject *renderer_reference(Renderer *self, PyObject *args, PyObject *kwargs)
+{
+  static char *keywords[] = {"spp", "seed", "skylight", "threads", NULL};
+  long spp;
+  unsigned long long seed = 1;
+  int skylight = 0, threads = 0;
+  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "l|Kpi", keywords, &spp, &seed, &skylight, &threads)) return NULL;
+  if (spp < 1 || threads < 0) {
+    PyErr_SetString(PyExc_ValueError, "spp must be >= 1 and threads >= 0");
+    return NULL;
+  }
+  if (!threads) threads = self->settings->threads > 0 ? self->settings->threads : default_threads;
+  sl_error err = {0};
+  sl_camera cam;
+  sl_image frame = {0};
+  float *se = NULL;
+  double sun[3] = {0, 0, 0}, seconds = 0.0;
+  int rc;
+  Py_BEGIN_ALLOW_THREADS
+  PyThread_acquire_lock(self->lock, WAIT_LOCK);
+  omp_set_num_threads(threads);
+  const double t0 = omp_get_wtime();
+  rc = renderer_ensure_built(self, &err);
+  if (!rc) {
+    se = malloc((size_t)self->settings->width * self->settings->height * 3 * sizeof *se);
+    rc = se ? sl_scene_reference_frame(self->settings, self->built, spp, seed, skylight, &cam, &frame, se, &err)
+            : sl_fail(&err, SL_ERR_NOMEM, "reference: out of memory");
+  }
+  if (!rc) memcpy(sun, self->built->scene.sun_direction, sizeof sun);
+  seconds = omp_get_wtime() - t0;
+  PyThread_release_lock(self->lock);
+  Py_END_ALLOW_THREADS
+  PyObject *out = rc ? raise_sl_error(&err) : frame_dict(&frame, &cam, sun, seconds);
+  if (out) {
+    PyObject *b = bytes_of(se, (size_t)frame.width * frame.height * 3);
+    if (!b || PyDict_SetItemString(out, "stderr", b)) Py_CLEAR(out);
+    Py_XDECREF(b);
+  }
+  free(se);
   sl_image_free(&frame);
   return out;
 }
@@ -219,6 +276,8 @@ static PyMethodDef renderer_methods[] = {
     {"build", (PyCFunction)renderer_build, METH_NOARGS, "Loads the storm and builds air, tables and renderer."},
     {"render", (PyCFunction)(void (*)(void))renderer_render, METH_VARARGS | METH_KEYWORDS,
      "render(threads=0) -> dict: one frame (bytes of float32) and its camera."},
+    {"reference", (PyCFunction)(void (*)(void))renderer_reference, METH_VARARGS | METH_KEYWORDS,
+     "reference(spp, seed=1, skylight=False, threads=0) -> dict: the Monte Carlo reference's frame."},
     {"placement", (PyCFunction)renderer_placement, METH_NOARGS, "The grid and the sun of the built scene."},
     {"close", (PyCFunction)renderer_close, METH_NOARGS, "Frees the built scene (it is built again on use)."},
     {NULL, NULL, 0, NULL}};

@@ -13,6 +13,8 @@ import sys
 import time as _time
 from typing import Any, Dict, Iterator, Mapping, Optional, Sequence, Union
 
+import numpy as np
+
 from . import _stormlight
 from .frame import Frame
 
@@ -154,6 +156,17 @@ class Scene:
         threads: OpenMP threads for this render (0: the scene's ``threads`` or the default).
         """
         return Frame._from_render(self._call(self._renderer.render, threads=threads), self._exposure())
+
+    def reference(self, spp: int = 16, seed: int = 1, skylight: bool = False, threads: int = 0) -> Frame:
+        """The same frame by the Monte Carlo reference (docs/REFERENCE.md): ``spp`` samples per
+        pixel and wavelength from ``seed``; ``skylight`` lets scattered paths that leave the
+        storm collect the sky. ``frame.stderr`` holds each channel's standard error (height x
+        width x 3). The same storm, sun, air, camera and round ground as ``render()``, so
+        ``stormlight.compare(scene.render(), scene.reference())`` is the fast model's error."""
+        d = self._call(self._renderer.reference, spp, seed=seed, skylight=skylight, threads=threads)
+        frame = Frame._from_render(d, self._exposure())
+        frame.stderr = np.frombuffer(d["stderr"], dtype=np.float32).reshape(frame.height, frame.width, 3)
+        return frame
 
     def series(self, times: Optional[Sequence[int]] = None, files: Optional[Sequence[PathLike]] = None,
                threads: int = 0, progress: bool = False) -> Iterator[Frame]:

@@ -181,3 +181,19 @@ def test_sun_position_at_the_june_solstice():
     assert night["night"] and abs(night["elevation"] + 43.128) < 0.6
     with pytest.raises(ValueError):
         stormlight.sun_position("2024-02-30T00:00Z", 0, 0)
+
+
+def test_reference_equals_the_command_lines(cli, datasets, tmp_path):
+    scene_file = tmp_path / "scene.json"
+    scene_file.write_text('{"data": "%s", "width": 48, "height": 32, "sun-elevation": 30, "sun-azimuth": 200}'
+                          % (datasets / "cumulus.nc"))
+    scene = stormlight.Scene.from_json(scene_file)
+    ref = scene.reference(spp=8, seed=3, threads=1)
+    cli("reference", "--scene", scene_file, "--spp", 8, "--seed", 3, "--quiet", "--out", tmp_path / "ref.exr")
+    command = stormlight.Frame.read_exr(tmp_path / "ref.exr")
+    assert stormlight.compare(ref, command)["relative_rmse"] == 0.0
+    assert np.array_equal(scene.reference(spp=8, seed=3, threads=2).rgba, ref.rgba)  # any thread count
+    assert not np.array_equal(scene.reference(spp=8, seed=4).rgba, ref.rgba)
+    assert ref.stderr.shape == (32, 48, 3) and 0 < ref.stderr.mean() < 0.2 * ref.rgb.mean()
+    with pytest.raises(ValueError, match="particle tables"):
+        stormlight.Scene(datasets / "cumulus.nc", lighting="low-albedo", **SMALL).reference(spp=1)
