@@ -438,6 +438,17 @@ static PyObject *module_read_exr(PyObject *Py_UNUSED(module), PyObject *args)
   return out;
 }
 
+static PyObject *double_list(const double *v, int n)
+{
+  PyObject *list = PyList_New(n);
+  for (int i = 0; list && i < n; ++i) {
+    PyObject *x = PyFloat_FromDouble(v[i]);
+    if (!x) Py_CLEAR(list);
+    else PyList_SET_ITEM(list, i, x);
+  }
+  return list;
+}
+
 /* A list of str from count fixed-size C strings. */
 static PyObject *text_list(const char (*texts)[24], int count)
 {
@@ -547,6 +558,109 @@ static PyObject *module_sun_position(PyObject *Py_UNUSED(module), PyObject *args
                        vector3(p.direction), "night", p.night ? Py_True : Py_False);
 }
 
+/* optics(particle, wavelength_nm, angles_rad, order) -> dict: the particle type's table at one
+ * wavelength (built by render/optics, or read from its on-disk cache): extinction cross-section,
+ * albedo, asymmetry, the truncated forward fraction f, the forward fractions F_n, and the smooth
+ * part of Ams_order at the given angles (bytes of float64, 1/sr; the forward Dirac of weight f^n
+ * is apart). */
+static PyObject *module_optics(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  const char *name;
+  double wavelength;
+  Py_buffer angles = {0};
+  int order;
+  if (!PyArg_ParseTuple(args, "sdy*i", &name, &wavelength, &angles, &order)) return NULL;
+  const int p = sl_particle_from_name(name);
+  PyObject *out = NULL;
+  double *values = NULL;
+  const size_t n = (size_t)angles.len / sizeof(double);
+  if (p < 0) {
+    PyErr_Format(PyExc_ValueError, "unknown particle '%s' (cloud, rain, ice, snow, graupel, hail)", name);
+  } else if (!(wavelength >= 200.0 && wavelength <= 3000.0)) {
+    PyErr_Format(PyExc_ValueError, "wavelength %g nm is outside 200..3000 nm", wavelength);
+  } else if (order < 1) {
+    PyErr_SetString(PyExc_ValueError, "order must be >= 1");
+  } else if (!(values = malloc((n ? n : 1) * sizeof *values))) {
+    PyErr_NoMemory();
+  } else {
+    sl_optics_request req;
+    sl_optics_request_defaults(&req);
+    req.particles = 1u << p;
+    req.n_wavelengths = 1;
+    req.wavelengths_nm[0] = wavelength;
+    sl_error err = {0};
+    sl_optics_tables *tables;
+    Py_BEGIN_ALLOW_THREADS
+    tables = sl_optics_build(&req, &err);
+    Py_END_ALLOW_THREADS
+    const sl_phase_table *t = tables ? sl_optics_table(tables, (sl_particle)p, 0) : NULL;
+    if (!t) {
+      if (!err.code) sl_fail(&err, SL_ERR_ARG, "no table for %s at %g nm", name, wavelength);
+      raise_sl_error(&err);
+    } else if (order > t->max_order) {
+      PyErr_Format(PyExc_ValueError, "order %d is past the table's last order %d (isotropic from there)", order,
+                   t->max_order);
+    } else {
+      const double *theta = angles.buf;
+      for (size_t i = 0; i < n; ++i) {
+        const double a = theta[i] < 0.0 ? 0.0 : theta[i] > M_PI ? M_PI : theta[i];
+        values[i] = sl_phase_table_ams_theta(t, order, a);
+      }
+      PyObject *forward = double_list(t->forward, t->max_order + 1);
+      out = forward ? Py_BuildValue("{s:d,s:d,s:d,s:d,s:d,s:i,s:N,s:N}", "wavelength", t->wavelength_nm, "sigma_ext",
+                                    t->sigma_ext, "albedo", t->albedo, "asymmetry", t->asymmetry, "truncated_fraction",
+                                    t->truncated_fraction, "max_order", t->max_order, "forward", forward, "ams",
+                                    PyBytes_FromStringAndSize((const char *)values, (Py_ssize_t)(n * sizeof *values)))
+                    : NULL;
+    }
+    sl_optics_free(tables);
+  }
+  free(values);
+  PyBuffer_Release(&angles);
+  return out;
+}
+
+
+/* sky(eye_height, view_elevation, view_azimuth, sun_elevation, sun_azimuth, distance, round_earth,
+ * spectral) -> dict: as `stormlight sky --json`, the single-scattered sky radiance along the view
+ * ray to distance (inf: the top of the air) and its transparency per wavelength, the sunlight at
+ * the eye, for a top-of-atmosphere sun of irradiance 1 (sl_sky_segment, sl_sky_sunlight). */
+static PyObject *module_sky(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  double eye_height, view_el, view_az, sun_el, sun_az, distance;
+  int round_earth, spectral;
+  if (!PyArg_ParseTuple(args, "ddddddpp", &eye_height, &view_el, &view_az, &sun_el, &sun_az, &distance, &round_earth,
+                        &spectral))
+    return NULL;
+  if (!(view_el >= -90 && view_el <= 90 && sun_el >= -90 && sun_el <= 90) || !(eye_height >= -500 && eye_height <= 1e6) ||
+      !(distance >= 0)) {
+    PyErr_SetString(PyExc_ValueError, "elevations must lie in [-90, 90] degrees, the eye in [-500, 1e6] m, "
+                                      "the distance >= 0");
+    return NULL;
+  }
+  double wavelengths[SL_SKY_SPECTRAL_COUNT];
+  int count = SL_SKY_RGB_COUNT;
+  if (spectral) sl_sky_spectral_wavelengths(wavelengths), count = SL_SKY_SPECTRAL_COUNT;
+  else memcpy(wavelengths, sl_sky_rgb_wavelengths_nm, sizeof(double) * SL_SKY_RGB_COUNT);
+  sl_atmosphere atm;
+  sl_error err = {0};
+  double sun[3], dir[3], radiance[SL_SKY_SPECTRAL_COUNT], transparency[SL_SKY_SPECTRAL_COUNT];
+  double sunlight[SL_SKY_SPECTRAL_COUNT];
+  const double eye[3] = {0.0, 0.0, eye_height};
+  sl_sun_direction(sun_el, sun_az, sun);
+  sl_sun_direction(view_el, view_az, dir);
+  int night = 0;
+  if (sl_atmosphere_init(&atm, wavelengths, count, round_earth ? SL_EARTH_ROUND : SL_EARTH_FLAT,
+                         SL_RAYLEIGH_BODHAINE1999, &err) ||
+      sl_sky_segment(&atm, eye, dir, distance, sun, radiance, transparency, &night, &err) ||
+      sl_sky_sunlight(&atm, eye, sun, sunlight, NULL, &err))
+    return raise_sl_error(&err);
+  return Py_BuildValue("{s:N,s:N,s:d,s:N,s:N,s:N,s:O}", "wavelengths_nm", double_list(atm.wavelength_nm, count),
+                       "beta_sea_level", double_list(atm.beta_sea_level, count), "scale_height_m", atm.scale_height,
+                       "radiance", double_list(radiance, count), "transparency", double_list(transparency, count),
+                       "sunlight_at_eye", double_list(sunlight, count), "night", night ? Py_True : Py_False);
+}
+
 static PyObject *module_version(PyObject *Py_UNUSED(module), PyObject *Py_UNUSED(ignored))
 {
   return PyUnicode_FromString(sl_version());
@@ -563,6 +677,8 @@ static PyMethodDef module_methods[] = {
     {"storm_info", module_storm_info, METH_VARARGS, "storm_info(path) -> what a storm file holds."},
     {"compare", module_compare, METH_VARARGS, "compare(width, height, a, b) -> the metrics of stormlight compare."},
     {"sun_position", module_sun_position, METH_VARARGS, "sun_position(iso8601, lat, lon) -> the sun's position."},
+    {"optics", module_optics, METH_VARARGS, "optics(particle, wavelength_nm, angles_rad, order) -> a table's values."},
+    {"sky", module_sky, METH_VARARGS, "sky(eye_height, view_el, view_az, sun_el, sun_az, distance, round, spectral)"},
     {"version", module_version, METH_NOARGS, "libstormlight's version."},
     {NULL, NULL, 0, NULL}};
 

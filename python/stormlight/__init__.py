@@ -10,10 +10,11 @@ The keywords of ``Scene`` are the scene file's keys (docs/SCENES.md) with hyphen
 underscores; ``stormlight.options()`` lists them with their help. docs/PYTHON.md walks through it.
 """
 from ._stormlight import version as _version
+from . import optics
 from .frame import Frame
-from .numbers import compare, sun_position
+from .numbers import compare, sky, sun_position
 from .scene import Scene, options
 from .storm import Storm, open  # noqa: A004
 
 __version__ = _version()
-__all__ = ["Frame", "Scene", "Storm", "compare", "open", "options", "sun_position", "__version__"]
+__all__ = ["optics", "Frame", "Scene", "Storm", "compare", "open", "options", "sky", "sun_position", "__version__"]

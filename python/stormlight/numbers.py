@@ -32,3 +32,20 @@ def sun_position(date: Union[str, _dt.datetime], lat: float, lon: float) -> Dict
             date = date.astimezone(_dt.timezone.utc).replace(tzinfo=None)
         date = date.isoformat() + "Z"
     return _stormlight.sun_position(date, float(lat), float(lon))
+
+
+def sky(eye_height: float, view_elevation: float, view_azimuth: float, sun_elevation: float,
+        sun_azimuth: float, distance: float = float("inf"), earth: str = "flat",
+        wavelengths: str = "rgb") -> Dict[str, Any]:
+    """As ``stormlight sky --json``: the single-scattered sky radiance gathered along a view ray
+    from an eye at eye_height (m) toward (elevation, compass azimuth) degrees, to ``distance`` m
+    or the top of the air, and the ray's transparency, per wavelength (``rgb``: 650, 515, 440 nm;
+    ``spectral``: 16), with the sunlight reaching the eye, all for a top-of-atmosphere sun of
+    irradiance 1 (Riley et al. 2004 eqs. 9-15, docs/SKY.md). ``earth`` "flat" is the paper's air
+    mass, "round" the Chapman function's."""
+    if earth not in ("flat", "round"):
+        raise ValueError("earth must be flat or round")
+    if wavelengths not in ("rgb", "spectral"):
+        raise ValueError("wavelengths must be rgb or spectral")
+    return _stormlight.sky(float(eye_height), float(view_elevation), float(view_azimuth), float(sun_elevation),
+                           float(sun_azimuth), float(distance), earth == "round", wavelengths == "spectral")
