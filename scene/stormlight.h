@@ -18,6 +18,7 @@
 #include "sl_sky.h"
 #include "sl_status.h"
 #include "sl_storm.h"
+#include "sl_storm_json.h"
 #include "sl_volume.h"
 
 #ifdef __cplusplus

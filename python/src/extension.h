@@ -30,6 +30,7 @@ PyObject *slpy_compare(PyObject *module, PyObject *args);
 
 /* numbers.c */
 PyObject *slpy_storm_info(PyObject *module, PyObject *args);
+PyObject *slpy_info_json(PyObject *module, PyObject *args);
 PyObject *slpy_sun_position(PyObject *module, PyObject *args);
 PyObject *slpy_optics(PyObject *module, PyObject *args);
 PyObject *slpy_sky(PyObject *module, PyObject *args);

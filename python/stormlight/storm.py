@@ -9,6 +9,7 @@ then reads. That write is the one copy of the data the package makes; the file i
 from __future__ import annotations
 
 import datetime as _dt
+import json
 import os
 import tempfile
 from typing import Any, Dict, List, Mapping, Optional, Union
@@ -58,9 +59,17 @@ class Storm:
             self.load_options["time"] = int(time)
 
     def info(self) -> Dict[str, Any]:
-        """What the file holds without loading it: kind (WRF, CM1, CF), shape (nx, ny, nz), spacing,
-        projection (WRF's MAP_PROJ), scheme, vertical coordinate, species, times."""
-        return dict(self._info)
+        """``stormlight info --json`` of this storm at its time with its load options, as a dict:
+        the file's grid and the loaded uniform grid, extent, terrain, placement and projection,
+        scheme, species with where their sizes come from, size tables, field statistics, memory,
+        times. Loads the storm (the properties below do not)."""
+        from .scene import _text
+        args = [self.path]
+        for key, value in self.load_options.items():
+            text = _text(key, value)
+            if text is not None:
+                args += ["--" + key] + ([text] if _TABLE[key]["type"] != "flag" else [])
+        return json.loads(_stormlight.info_json(args))
 
     @property
     def times(self) -> List[str]:

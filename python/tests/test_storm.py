@@ -13,17 +13,30 @@ SUPERCELL = "data/cm1/cm1_supercell_t070min.nc"
 
 def test_open_reads_what_the_file_holds(shared, datasets):
     wrf = stormlight.open(shared / KATRINA, time=2)
-    assert wrf.info()["kind"] == "WRF" and wrf.grid["shape"] == (48, 48, 14) and wrf.info()["map_proj"] == 3
+    info = wrf.info()
+    assert info["format"] == "WRF" and wrf.grid["shape"] == (48, 48, 14) and info["projection"]["map_proj"] == 3
     assert wrf.times == ["2005-08-28T12:00:00", "2005-08-28T15:00:00", "2005-08-28T18:00:00", "2005-08-28T21:00:00"]
     assert [s["variable"] for s in wrf.species] == ["QCLOUD", "QRAIN"] and wrf.load_options["time"] == 2
     cm1 = stormlight.open(shared / SUPERCELL)
-    assert cm1.info()["kind"] == "CM1" and cm1.times == ["+4200s"]
+    assert cm1.info()["format"] == "CM1" and cm1.times == ["+4200s"]
     with pytest.raises(ValueError, match="out of range"):
         stormlight.open(shared / KATRINA, time=4)
     with pytest.raises(ValueError, match="scene option"):
         stormlight.open(shared / KATRINA, width=64)
     with pytest.raises(OSError):
         stormlight.open(datasets / "no-such-storm.nc")
+
+
+def test_info_is_the_command_lines(cli, shared):
+    import json
+    storm = stormlight.open(shared / KATRINA, time=1, field="cloud=QCLOUD,rain=none", stride=2)
+    got = storm.info()
+    command = json.loads(cli("info", "--json", shared / KATRINA, "--time", 1, "--field", "cloud=QCLOUD,rain=none",
+                             "--stride", 2))
+    for d in (got, command):
+        del d["memory"]["available_bytes"]  # what the machine has free now
+    assert got == command
+    assert got["uniform_grid"]["nx"] == 24 and got["time_index"] == 1  # the stride and time reached the load
 
 
 def three_ways(cli, tmp_path, path, time, ds, **options):
