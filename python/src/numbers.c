@@ -186,8 +186,8 @@ PyObject *slpy_optics(PyObject *Py_UNUSED(module), PyObject *args)
         values[i] = sl_phase_table_ams_theta(t, order, a);
       }
       PyObject *forward = slpy_double_list(t->forward, t->max_order + 1);
-      out = forward ? Py_BuildValue("{s:d,s:d,s:d,s:d,s:d,s:i,s:N,s:N}", "wavelength", t->wavelength_nm, "sigma_ext",
-                                    t->sigma_ext, "albedo", t->albedo, "asymmetry", t->asymmetry, "truncated_fraction",
+      out = forward ? Py_BuildValue("{s:d,s:d,s:d,s:d,s:d,s:d,s:i,s:N,s:N}", "wavelength", t->wavelength_nm,
+                                    "sigma_ext", t->sigma_ext, "particle_mass", sl_particle_mass((sl_particle)p), "albedo", t->albedo, "asymmetry", t->asymmetry, "truncated_fraction",
                                     t->truncated_fraction, "max_order", t->max_order, "forward", forward, "ams",
                                     PyBytes_FromStringAndSize((const char *)values, (Py_ssize_t)(n * sizeof *values)))
                     : NULL;

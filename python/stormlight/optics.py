@@ -25,7 +25,8 @@ def phase(particle: str, wavelength: float, angles: Any, order: int = 1) -> np.n
 
 def properties(particle: str, wavelength: float) -> Dict[str, Any]:
     """A particle type's table at a wavelength (nm): sigma_ext (m^2 per representative particle),
-    single-scattering albedo, asymmetry g, truncated forward fraction f, the forward fractions
+    the representative particle's mass (kg; a storm's water over it is the number of particles the
+    renderer puts in a cell where the scheme gives no sizes), single-scattering albedo, asymmetry g, truncated forward fraction f, the forward fractions
     F_n of eq. 23 and the last order the table holds."""
     d = _stormlight.optics(particle, float(wavelength), np.zeros(0), 1)
     d.pop("ams")

@@ -126,6 +126,20 @@ def test_sphere_from_arrays():
             tau[q0] = -np.log(t.astype(np.float64))
     centre = tau[1e-6][32, 32]
     assert 0.05 < centre < 1.0
+    # The known optical depth: the representative droplets (no sizes in a CF file) number rho q / m
+    # per m^3, each of the tables' extinction cross-section averaged over the three wavelengths
+    # (extinction is grey), along the centre line's chord of 30 cells (its samples at x = -50 and
+    # +50 m both hold 30 inside the sphere; the trilinear field integrates to one cell per sample).
+    # The light volume's march steps half a cell from the box's face, so each step lies between
+    # two samples and its midpoint value is exact.
+    sigma = np.mean([stormlight.optics.properties("cloud", nm)["sigma_ext"] for nm in (650.0, 515.0, 440.0)])
+    mass = stormlight.optics.properties("cloud", 550.0)["particle_mass"]
+    known = 1.0 * 1e-6 / mass * sigma * 30 * 100.0
+    with sphere(1e-6) as storm:
+        marched = stormlight.Scene(storm, light_volume=True, **view).render().transparency[32, 32]
+    print(f"sphere: tau through the centre {-np.log(marched):.7f} against {known:.7f} known; slicer {centre:.7f}")
+    assert abs(-np.log(marched) / known - 1.0) < 1e-4, (-np.log(marched), known)
+    assert abs(centre / known - 1.0) < 1e-4, (centre, known)  # the slicer, too
     # Optical depth is linear in the water: twice the water, exp(-2 tau) through the centre.
     assert abs(tau[2e-6][32, 32] / centre - 2.0) < 1e-4
     # Outside the sphere the air is empty.
