@@ -278,16 +278,21 @@ int sl_write_png_rgb8(const char *path, int width, int height, const unsigned ch
   return sl_temp_commit(tmp, path, err);
 }
 
-int sl_write_png(const char *path, const sl_image *img, float exposure, sl_error *err)
+void sl_image_to_srgb8(const sl_image *img, float exposure, unsigned char *rgb)
 {
   const size_t n = (size_t)img->width * img->height;
-  unsigned char *rgb = malloc(3 * n);
-  if (!rgb) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
       const float v = sl_tonemap(img->rgba[4 * i + c], exposure);
       rgb[3 * i + c] = (unsigned char)lrintf(255.0f * (v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v));
     }
+}
+
+int sl_write_png(const char *path, const sl_image *img, float exposure, sl_error *err)
+{
+  unsigned char *rgb = malloc(3 * (size_t)img->width * img->height);
+  if (!rgb) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
+  sl_image_to_srgb8(img, exposure, rgb);
   const int rc = sl_write_png_rgb8(path, img->width, img->height, rgb, err);
   free(rgb);
   return rc;

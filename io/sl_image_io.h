@@ -39,6 +39,8 @@ int sl_read_exr(const char *path, sl_image *img, sl_error *err);
 float sl_tonemap(float radiance, float exposure);
 /* Writes an 8-bit sRGB PNG of the RGB channels. */
 int sl_write_png(const char *path, const sl_image *img, float exposure, sl_error *err);
+/* The tone-mapped 8-bit sRGB that sl_write_png writes: 3 bytes per pixel, rows from the top. */
+void sl_image_to_srgb8(const sl_image *img, float exposure, unsigned char *rgb);
 /* Writes an 8-bit sRGB PNG from 8-bit RGB rows (top first), used for plots and difference maps. */
 int sl_write_png_rgb8(const char *path, int width, int height, const unsigned char *rgb, sl_error *err);
 

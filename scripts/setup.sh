@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake pkg-config libvtk9-dev mpi-default-dev libnetcdf-dev netcdf-bin
   libopenexr-dev libgeographiclib-dev libfftw3-dev libpng-dev libcjson-dev xvfb xauth libgl1-mesa-dri
   proj-bin ffmpeg mpi-default-bin libgmt-dev gmt gmt-gshhg-low gmt-dcw clang libclang-rt-14-dev libomp-dev jq
-  python3-dev python3-numpy python3-pytest python3-xarray python3-netcdf4)
+  python3-dev python3-numpy python3-pytest python3-xarray python3-netcdf4 python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

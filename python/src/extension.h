@@ -27,6 +27,7 @@ PyObject *slpy_write_exr(PyObject *module, PyObject *args, PyObject *kwargs);
 PyObject *slpy_write_png(PyObject *module, PyObject *args, PyObject *kwargs);
 PyObject *slpy_read_exr(PyObject *module, PyObject *args);
 PyObject *slpy_compare(PyObject *module, PyObject *args);
+PyObject *slpy_srgb8(PyObject *module, PyObject *args);
 
 /* numbers.c */
 PyObject *slpy_storm_info(PyObject *module, PyObject *args);

@@ -69,6 +69,23 @@ PyObject *slpy_write_png(PyObject *Py_UNUSED(module), PyObject *args, PyObject *
   return out;
 }
 
+/* srgb8(width, height, rgba, exposure) -> bytes: the tone-mapped 8-bit sRGB render's PNGs hold. */
+PyObject *slpy_srgb8(PyObject *Py_UNUSED(module), PyObject *args)
+{
+  int width, height;
+  double exposure;
+  Py_buffer rgba = {0};
+  if (!PyArg_ParseTuple(args, "iiy*d", &width, &height, &rgba, &exposure)) return NULL;
+  sl_image img;
+  PyObject *out = NULL;
+  if (!slpy_image_from_buffers(&rgba, NULL, NULL, width, height, &img)) {
+    out = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)width * height * 3);
+    if (out) sl_image_to_srgb8(&img, (float)exposure, (unsigned char *)PyBytes_AS_STRING(out));
+  }
+  PyBuffer_Release(&rgba);
+  return out;
+}
+
 /* read_exr(path) -> dict: an EXR's width, height, rgba and depth (bytes of float32, rows from the
  * top), as sl_read_exr reads render's frames (A = the volume's coverage, Z its depth). */
 PyObject *slpy_read_exr(PyObject *Py_UNUSED(module), PyObject *args)

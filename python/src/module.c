@@ -109,6 +109,7 @@ static PyMethodDef module_methods[] = {
     {"scene_args", module_scene_args, METH_VARARGS, "scene_args(path) -> a scene file as render's arguments."},
     {"read_exr", slpy_read_exr, METH_VARARGS, "read_exr(path) -> dict of an EXR frame's buffers."},
     {"storm_info", slpy_storm_info, METH_VARARGS, "storm_info(path) -> what a storm file holds."},
+    {"srgb8", slpy_srgb8, METH_VARARGS, "srgb8(width, height, rgba, exposure) -> tone-mapped 8-bit sRGB."},
     {"info_json", slpy_info_json, METH_VARARGS, "info_json(args) -> stormlight info --json of a storm file."},
     {"compare", slpy_compare, METH_VARARGS, "compare(width, height, a, b) -> the metrics of stormlight compare."},
     {"sun_position", slpy_sun_position, METH_VARARGS, "sun_position(iso8601, lat, lon) -> the sun's position."},

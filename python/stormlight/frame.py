@@ -70,6 +70,13 @@ class Frame:
         """The volume's coverage, 1 - its transparency (a view of rgba)."""
         return self.rgba[..., 3]
 
+    def srgb(self, exposure: Optional[float] = None) -> np.ndarray:
+        """The frame tone-mapped to 8-bit sRGB at ``exposure`` (the scene's by default), height x
+        width x 3 uint8, exactly as ``to_png`` writes it: for matplotlib's ``imshow``."""
+        data = _stormlight.srgb8(self.width, self.height, np.ascontiguousarray(self.rgba),
+                                 self.exposure if exposure is None else float(exposure))
+        return np.frombuffer(data, dtype=np.uint8).reshape(self.height, self.width, 3)
+
     def save_exr(self, path: "os.PathLike[str] | str", float32: bool = False) -> None:
         """Linear HDR RGBA plus Z, half floats unless float32 (as ``stormlight render``)."""
         _stormlight.write_exr(os.fspath(path), self.width, self.height, np.ascontiguousarray(self.rgba),

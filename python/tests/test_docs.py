@@ -25,3 +25,4 @@ def test_python_md_snippets_run(capsys):
     assert "\n0.0\n" in printed  # the xarray cut and the file give one frame
     assert (ROOT / "out/python_bubble.png").stat().st_size > 1000
     assert (ROOT / "out/python_katrina.mp4").stat().st_size > 1000
+    assert (ROOT / "out/python_notebook.png").stat().st_size > 1000

@@ -197,3 +197,13 @@ def test_reference_equals_the_command_lines(cli, datasets, tmp_path):
     assert ref.stderr.shape == (32, 48, 3) and 0 < ref.stderr.mean() < 0.2 * ref.rgb.mean()
     with pytest.raises(ValueError, match="particle tables"):
         stormlight.Scene(datasets / "cumulus.nc", lighting="low-albedo", **SMALL).reference(spp=1)
+
+
+def test_srgb_is_what_the_png_holds(datasets, tmp_path):
+    import matplotlib.image
+    frame = stormlight.Scene(datasets / "cumulus.nc", **SMALL).render()
+    frame.to_png(tmp_path / "f.png", exposure=5)
+    png = np.rint(matplotlib.image.imread(tmp_path / "f.png")[..., :3] * 255).astype(np.uint8)
+    assert np.array_equal(frame.srgb(exposure=5), png)
+    assert frame.srgb().dtype == np.uint8 and frame.srgb().shape == (48, 72, 3)
+    assert not np.array_equal(frame.srgb(exposure=5), frame.srgb(exposure=50))
