@@ -12,7 +12,7 @@ import datetime as _dt
 import json
 import os
 import tempfile
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -114,18 +114,21 @@ class Storm:
                     graupel: Any = None, hail: Any = None, *, x: Any = None, y: Any = None, z: Any = None,
                     heights: Any = None, density: Any = None, pressure: Any = None, temperature: Any = None,
                     lat: Any = None, lon: Any = None, time: Optional[_dt.datetime] = None,
-                    **load_options: Any) -> "Storm":
+                    dims: Optional[Sequence[str]] = None, **load_options: Any) -> "Storm":
         """A storm from arrays of shape (z, y, x): hydrometeor mass fractions (kg/kg, or with a CF
         ``units`` attribute such as ``g kg-1``), on x/y in metres (or lat/lon in degrees) and
         heights z (1-D, m) or ``heights`` (3-D, m), with the air's ``density`` (kg m-3) or its
         ``pressure`` (Pa) and ``temperature`` (K). Written as a CF-NetCDF file (docs/DATA.md)
         that the CF reader reads: the same unit conversions, checks and one-line errors (NaN,
-        negative values beyond the clamping rule, unknown units) as a file."""
+        negative values beyond the clamping rule, unknown units) as a file. DataArrays are put in
+        (z, y, x) order by their dimensions' names: ``dims`` names them in that order, else each
+        dimension's coordinate (its CF ``axis`` or ``standard_name``) or its name (``height``,
+        ``lat``, ``west_east``, ...) says which axis it is."""
         fields = {k: v for k, v in dict(cloud=cloud, rain=rain, ice=ice, snow=snow, graupel=graupel,
                                          hail=hail).items() if v is not None}
         path = _temporary_path()
         try:
-            _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time)
+            _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims)
             storm = cls(path, _owned=True, **load_options)
             storm.label = "Storm.from_arrays"
             return storm
@@ -184,11 +187,56 @@ def _values(name: str, a: Any) -> "tuple[np.ndarray, Optional[str]]":
     return values.astype(np.float64 if values.dtype == np.float64 else np.float32), units
 
 
-def _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time) -> None:
+# Dimension names that say which axis they are, where no coordinate or CF attribute says it.
+_AXIS_NAMES = {
+    "z": ("z", "height", "level", "lev", "bottom_top", "zh", "altitude", "model_level_number"),
+    "y": ("y", "lat", "latitude", "south_north", "yh", "rlat"),
+    "x": ("x", "lon", "longitude", "west_east", "xh", "rlon"),
+}
+
+
+def _axis_of(a: Any, dim: str) -> Optional[str]:
+    """Which axis (z, y, x) a DataArray's dimension is: its coordinate's CF ``axis`` or
+    ``standard_name``, else its name."""
+    coord = getattr(a, "coords", {}).get(dim) if hasattr(a, "coords") else None
+    attrs = getattr(coord, "attrs", {}) if coord is not None else {}
+    axis = str(attrs.get("axis", "")).lower()
+    if axis in ("x", "y", "z"):
+        return axis
+    std = attrs.get("standard_name", "")
+    for name, axis in (("latitude", "y"), ("longitude", "x"), ("projection_y_coordinate", "y"),
+                       ("projection_x_coordinate", "x"), ("height", "z"), ("altitude", "z")):
+        if std == name:
+            return axis
+    for axis, names in _AXIS_NAMES.items():
+        if dim.lower() in names:
+            return axis
+    return None
+
+
+def _ordered(name: str, a: Any, dims: Optional[Sequence[str]]) -> Any:
+    """A 3-D DataArray transposed to (z, y, x) by its dimensions' names: the given ``dims`` (in
+    z, y, x order), else what its coordinates or names say. Plain arrays are (z, y, x) already."""
+    if not hasattr(a, "dims") or not hasattr(a, "transpose") or len(a.dims) != 3:
+        return a
+    if dims is not None:
+        if set(dims) != set(a.dims):
+            raise ValueError(f"from_arrays: '{name}' has dimensions {tuple(a.dims)}, not {tuple(dims)}")
+        return a.transpose(*dims)
+    axes = {_axis_of(a, d): d for d in a.dims}
+    if set(axes) != {"z", "y", "x"}:
+        return a  # nothing says otherwise: taken as (z, y, x)
+    return a.transpose(axes["z"], axes["y"], axes["x"])
+
+
+def _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims=None) -> None:
     import netCDF4
 
     if not fields:
         raise ValueError("from_arrays: give at least one of cloud, rain, ice, snow, graupel, hail")
+    fields = {k: _ordered(k, v, dims) for k, v in fields.items()}
+    heights, density = _ordered("heights", heights, dims), _ordered("density", density, dims)
+    pressure, temperature = _ordered("pressure", pressure, dims), _ordered("temperature", temperature, dims)
     data = {k: _values(k, v) for k, v in fields.items()}
     shape = next(iter(data.values()))[0].shape
     if len(shape) != 3:

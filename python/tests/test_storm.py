@@ -210,3 +210,21 @@ def test_series_equals_each_time_alone(shared, capsys):
     files = [shared / "data/cm1/cm1_supercell_t060min.nc", shared / "data/cm1/cm1_supercell_t070min.nc"]
     cm1 = list(stormlight.Scene(files[0], **SMALL).series(files=files))
     assert np.array_equal(cm1[1].rgba, stormlight.Scene(files[1], **SMALL).render().rgba)
+
+
+def test_arrays_in_another_dimension_order():
+    q, x, z = sphere_cells(1e-6)
+    view = dict(width=24, height=24, no_atmosphere=True, sun_elevation=40, sun_azimuth=180)
+    plain = stormlight.Scene(stormlight.Storm.from_arrays(cloud=q, x=x, y=x, z=z, density=np.ones_like(q)),
+                             **view).render()
+    # (x, z, y) by name, with a coordinate that says its axis, and by dims given.
+    cube = xr.DataArray(q, dims=("height", "south_north", "west_east")).transpose("west_east", "height", "south_north")
+    rho = xr.DataArray(np.ones_like(q), dims=("height", "south_north", "west_east"))
+    named = stormlight.Scene(stormlight.Storm.from_arrays(cloud=cube, x=x, y=x, z=z, density=rho), **view).render()
+    assert np.array_equal(named.rgba, plain.rgba)
+    odd = xr.DataArray(q, dims=("k", "j", "i")).transpose("i", "k", "j")
+    given = stormlight.Scene(stormlight.Storm.from_arrays(cloud=odd, x=x, y=x, z=z, density=np.ones_like(q),
+                                                          dims=("k", "j", "i")), **view).render()
+    assert np.array_equal(given.rgba, plain.rgba)
+    with pytest.raises(ValueError, match="has dimensions"):
+        stormlight.Storm.from_arrays(cloud=odd, x=x, y=x, z=z, density=np.ones_like(q), dims=("z", "y", "x"))
