@@ -91,22 +91,16 @@ static int renderer_ensure_built(Renderer *self, sl_error *err)
   return SL_OK;
 }
 
-/* The same from Python's side: the GIL released, the lock taken. */
-static int renderer_build_unlocked(Renderer *self, sl_error *err)
-{
-  int rc;
-  Py_BEGIN_ALLOW_THREADS
-  PyThread_acquire_lock(self->lock, WAIT_LOCK);
-  rc = renderer_ensure_built(self, err);
-  PyThread_release_lock(self->lock);
-  Py_END_ALLOW_THREADS
-  return rc;
-}
-
 static PyObject *renderer_build(Renderer *self, PyObject *Py_UNUSED(ignored))
 {
   sl_error err = {0};
-  if (renderer_build_unlocked(self, &err)) return slpy_raise(&err);
+  int rc;
+  Py_BEGIN_ALLOW_THREADS
+  PyThread_acquire_lock(self->lock, WAIT_LOCK);
+  rc = renderer_ensure_built(self, &err);
+  PyThread_release_lock(self->lock);
+  Py_END_ALLOW_THREADS
+  if (rc) return slpy_raise(&err);
   Py_RETURN_NONE;
 }
 
@@ -214,14 +208,21 @@ static PyObject *renderer_reference(Renderer *self, PyObject *args, PyObject *kw
 static PyObject *renderer_placement(Renderer *self, PyObject *Py_UNUSED(ignored))
 {
   sl_error err = {0};
-  if (renderer_build_unlocked(self, &err)) return slpy_raise(&err);
-  const sl_built_scene *b = self->built;
-  const sl_volume *v = &b->frame.volume;
-  return Py_BuildValue("{s:d,s:d,s:(iii),s:(ddd),s:(ddd),s:d,s:d,s:d}", "sun_elevation", b->sun_elevation_deg,
-                       "sun_azimuth", b->sun_azimuth_deg, "shape", v->nx, v->ny, v->nz, "origin", v->origin[0],
+  sl_built_scene b; /* the fields read, copied under the lock (another thread may close it) */
+  int rc;
+  Py_BEGIN_ALLOW_THREADS
+  PyThread_acquire_lock(self->lock, WAIT_LOCK);
+  rc = renderer_ensure_built(self, &err);
+  if (!rc) memcpy(&b, self->built, sizeof b);
+  PyThread_release_lock(self->lock);
+  Py_END_ALLOW_THREADS
+  if (rc) return slpy_raise(&err);
+  const sl_volume *v = &b.frame.volume;
+  return Py_BuildValue("{s:d,s:d,s:(iii),s:(ddd),s:(ddd),s:d,s:d,s:d}", "sun_elevation", b.sun_elevation_deg,
+                       "sun_azimuth", b.sun_azimuth_deg, "shape", v->nx, v->ny, v->nz, "origin", v->origin[0],
                        v->origin[1], v->origin[2], "spacing", v->spacing[0], v->spacing[1], v->spacing[2],
-                       "center_lat", b->frame.center_lat, "center_lon", b->frame.center_lon, "load_seconds",
-                       b->load_seconds);
+                       "center_lat", b.frame.center_lat, "center_lon", b.frame.center_lon, "load_seconds",
+                       b.load_seconds);
 }
 
 static PyObject *renderer_close(Renderer *self, PyObject *Py_UNUSED(ignored))
