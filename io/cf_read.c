@@ -90,6 +90,33 @@ int cf_unit_factor(cf_quantity q, const char *units, double *scale, double *offs
   return 0;
 }
 
+/* A CF hydrometeor's number concentration, as two-moment schemes write it: a variable that the
+ * mass fraction's ancillary_variables attribute names (CF 3.4) whose units are a number per mass
+ * of air (kg-1, #/kg, g-1); its cells then give the species' sizes (docs/DATA.md, "Sizes"). A
+ * linked variable in other units (a quality flag, a number per volume) is left alone. */
+static void cf_number_variable(const sl_nc *f, int id, sl_species *sp)
+{
+  char list[512];
+  if (!sl_nc_attr_text(f, id, "ancillary_variables", list, sizeof list)) return;
+  for (char *name = list; *name;) {
+    while (*name == ' ' || *name == '\t') ++name;
+    char *end = name;
+    while (*end && *end != ' ' && *end != '\t') ++end;
+    const char next = *end;
+    *end = '\0';
+    int nid;
+    char units[64];
+    double scale, offset;
+    if (*name && nc_inq_varid(f->id, name, &nid) == NC_NOERR && sl_nc_attr_text(f, nid, "units", units, sizeof units) &&
+        cf_unit_factor(CF_NUMBER_PER_MASS, units, &scale, &offset) == 1) {
+      sl_species_set_number(sp, name);
+      return;
+    }
+    if (!next) break;
+    name = end + 1;
+  }
+}
+
 /* Horizontal spacing (m) of coordinate `dim`, uniform within 1 %. */
 static int axis_spacing(const sl_nc *f, const char *dim, size_t n, int is_x, int cm1, double *scale, double *spacing,
                         double *lat_mid, int *flip, sl_error *err)
@@ -200,7 +227,10 @@ int cf_layout_of(const sl_nc *f, cf_layout *L, sl_storm_info *info, sl_error *er
     char name[NC_MAX_NAME + 1], stdname[256] = "";
     nc_inq_varname(f->id, id, name);
     sl_nc_attr_text(f, id, "standard_name", stdname, sizeof stdname);
-    if (sl_species_cf_match(name, stdname, L->cm1, &info->species[info->nspecies])) info->nspecies++;
+    if (sl_species_cf_match(name, stdname, L->cm1, &info->species[info->nspecies])) {
+      if (!L->cm1) cf_number_variable(f, id, &info->species[info->nspecies]);
+      info->nspecies++;
+    }
   }
   if (info->nspecies == 0)
     return sl_fail(err, SL_ERR_FORMAT,

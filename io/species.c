@@ -140,7 +140,7 @@ static void species_from_def(const species_def *d, const char *variable, const s
 }
 
 /* A number variable needs a distribution to turn (q, N) into sizes: the scheme's, else the default. */
-static void species_number(sl_species *sp, const char *number_variable)
+void sl_species_set_number(sl_species *sp, const char *number_variable)
 {
   snprintf(sp->number_variable, sizeof sp->number_variable, "%s", number_variable);
   if (!(sp->sizes.density_kg_m3 > 0.0)) sp->sizes = DEFAULT_SIZES.psd[sp->warm];
@@ -166,7 +166,7 @@ void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info)
     if (!sl_nc_has_var(f, SPECIES[d].wrf)) continue;
     sl_species *sp = &info->species[info->nspecies++];
     species_from_def(&SPECIES[d], SPECIES[d].wrf, sizes, sp);
-    if (sl_nc_has_var(f, SPECIES[d].wrf_number)) species_number(sp, SPECIES[d].wrf_number);
+    if (sl_nc_has_var(f, SPECIES[d].wrf_number)) sl_species_set_number(sp, SPECIES[d].wrf_number);
     /* Simple ice (WSM3) and warm rain (Kessler): cloud below 0 C is cloud ice, rain is snow. */
     if (split && SPECIES[d].type == SL_CLOUD) sp->cold = SL_ICE;
     if (split && SPECIES[d].type == SL_RAIN) sp->cold = SL_SNOW;
@@ -203,7 +203,7 @@ void sl_species_cm1_scheme(const sl_nc *f, sl_storm_info *info)
     for (int d = 0; d < NDEF; ++d) {
       if (strcmp(sp->variable, SPECIES[d].cm1) != 0) continue;
       if (sizes && sizes->psd[SPECIES[d].type].density_kg_m3 > 0.0) sp->sizes = sizes->psd[SPECIES[d].type];
-      if (sl_nc_has_var(f, SPECIES[d].cm1_number)) species_number(sp, SPECIES[d].cm1_number);
+      if (sl_nc_has_var(f, SPECIES[d].cm1_number)) sl_species_set_number(sp, SPECIES[d].cm1_number);
     }
   }
 }
@@ -274,7 +274,7 @@ int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_o
     for (int s = 0; s < info->nspecies; ++s) {
       if (strcmp(info->species[s].variable, var) != 0) continue;
       sp->kind = info->species[s].kind;
-      if (info->species[s].number_variable[0]) species_number(sp, info->species[s].number_variable);
+      if (info->species[s].number_variable[0]) sl_species_set_number(sp, info->species[s].number_variable);
     }
   }
   if (opt && opt->droplet_number_m3 > 0.0)

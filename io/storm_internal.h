@@ -121,11 +121,14 @@ int sl_species_type_count(const sl_species *species, int n);
 void sl_species_wrf(const sl_nc *f, int mp_physics, sl_storm_info *info);
 int sl_map_species_nc(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt,
                       sl_species out[SL_MAX_SPECIES], int *count, sl_error *err);
-/* A CM1 name (cm1 != 0) or CF standard_name of a hydrometeor: fills *sp and returns 1. */
 /* CM1's scheme from its ptype attribute: info->scheme in words, sizes and number variables of the
  * species sl_species_cf_match found. */
 void sl_species_cm1_scheme(const sl_nc *f, sl_storm_info *info);
+/* A CM1 name (cm1 != 0) or CF standard_name of a hydrometeor: fills *sp and returns 1. */
 int sl_species_cf_match(const char *var_name, const char *standard_name, int cm1, sl_species *sp);
+/* The species' number mixing ratio (per kg of air) is variable number_variable: its sizes follow
+ * from (q, N) through its scheme's distribution, or Stormlight's default for the type. */
+void sl_species_set_number(sl_species *sp, const char *number_variable);
 /* Extinction-equivalent number concentration (m^-3) of `target` particles for one cell: the
  * species' mass concentration rho_air * q and, for double-moment schemes, its number
  * concentration rho_dry * qn (qn < 0: none). */

@@ -114,13 +114,17 @@ class Storm:
                     graupel: Any = None, hail: Any = None, *, x: Any = None, y: Any = None, z: Any = None,
                     heights: Any = None, density: Any = None, pressure: Any = None, temperature: Any = None,
                     lat: Any = None, lon: Any = None, time: Optional[_dt.datetime] = None,
-                    dims: Optional[Sequence[str]] = None, **load_options: Any) -> "Storm":
+                    number: Optional[Mapping[str, Any]] = None, dims: Optional[Sequence[str]] = None,
+                    **load_options: Any) -> "Storm":
         """A storm from arrays of shape (z, y, x): hydrometeor mass fractions (kg/kg, or with a CF
         ``units`` attribute such as ``g kg-1``), on x/y in metres (or lat/lon in degrees) and
         heights z (1-D, m) or ``heights`` (3-D, m), with the air's ``density`` (kg m-3) or its
         ``pressure`` (Pa) and ``temperature`` (K). Written as a CF-NetCDF file (docs/DATA.md)
         that the CF reader reads: the same unit conversions, checks and one-line errors (NaN,
-        negative values beyond the clamping rule, unknown units) as a file. DataArrays are put in
+        negative values beyond the clamping rule, unknown units) as a file. ``number`` maps a
+        hydrometeor to its number concentration per kg of air (two-moment schemes' number mixing
+        ratio, kg-1), linked to it as a CF ancillary variable: its sizes then follow from (q, N)
+        (docs/DATA.md, "Sizes"). DataArrays are put in
         (z, y, x) order by their dimensions' names: ``dims`` names them in that order, else each
         dimension's coordinate (its CF ``axis`` or ``standard_name``) or its name (``height``,
         ``lat``, ``west_east``, ...) says which axis it is."""
@@ -128,9 +132,16 @@ class Storm:
                                          hail=hail).items() if v is not None}
         path = _temporary_path()
         try:
-            _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims)
+            _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims,
+                      number or {})
             storm = cls(path, _owned=True, **load_options)
             storm.label = "Storm.from_arrays"
+            taken = {s["variable"] for s in storm.species if s["number_variable"]}
+            for k, n in (number or {}).items():
+                if k not in taken:
+                    units = getattr(n, "attrs", {}).get("units")
+                    raise ValueError(f"from_arrays: number['{k}'] in '{units}' is not a number per kg of air "
+                                     "(give kg-1: a number per m3 over the air's density)")
             return storm
         except BaseException:
             _remove(path)
@@ -229,11 +240,16 @@ def _ordered(name: str, a: Any, dims: Optional[Sequence[str]]) -> Any:
     return a.transpose(axes["z"], axes["y"], axes["x"])
 
 
-def _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims=None) -> None:
+def _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, lat, lon, time, dims=None,
+              number=None) -> None:
     import netCDF4
 
     if not fields:
         raise ValueError("from_arrays: give at least one of cloud, rain, ice, snow, graupel, hail")
+    number = {k: _ordered(f"number['{k}']", v, dims) for k, v in (number or {}).items()}
+    for k in number:
+        if k not in fields:
+            raise ValueError(f"from_arrays: number['{k}'] without {k}")
     fields = {k: _ordered(k, v, dims) for k, v in fields.items()}
     heights, density = _ordered("heights", heights, dims), _ordered("density", density, dims)
     pressure, temperature = _ordered("pressure", pressure, dims), _ordered("temperature", temperature, dims)
@@ -311,3 +327,8 @@ def _write_cf(path, fields, x, y, z, heights, density, pressure, temperature, la
             v.standard_name = _STANDARD_NAMES[k]
             v.units = units if units is not None else "kg kg-1"
             v[:] = values.reshape(v.shape)
+            if k in number:
+                if np.shape(number[k]) != shape:
+                    raise ValueError(f"from_arrays: number['{k}'] has shape {np.shape(number[k])}, the fields {shape}")
+                put(f"number_{k}", number[k], dims, "kg-1")
+                v.ancillary_variables = f"number_{k}"

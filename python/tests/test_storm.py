@@ -228,3 +228,26 @@ def test_arrays_in_another_dimension_order():
     assert np.array_equal(given.rgba, plain.rgba)
     with pytest.raises(ValueError, match="has dimensions"):
         stormlight.Storm.from_arrays(cloud=odd, x=x, y=x, z=z, density=np.ones_like(q), dims=("z", "y", "x"))
+
+
+def test_arrays_with_number_concentrations():
+    q, x, z = sphere_cells(2e-7)
+    view = dict(width=24, height=24, no_atmosphere=True, sun_elevation=40, sun_azimuth=180)
+    rho = np.ones_like(q)
+
+    def transparency(**number):
+        storm = stormlight.Storm.from_arrays(cloud=q, x=x, y=x, z=z, density=rho, number=number or None)
+        sized = [s["sized"] for s in storm.species]
+        return stormlight.Scene(storm, **view).render().transparency[12, 12], sized
+
+    t_rep, sized = transparency()
+    assert sized == [False]
+    t_few, sized = transparency(cloud=np.full_like(q, 5e7))
+    assert sized == [True]
+    t_many, _ = transparency(cloud=np.full_like(q, 5e8))
+    # Ten times the droplets of the same water: smaller, and more light taken out.
+    assert t_many < t_few and -np.log(t_many) / -np.log(t_few) > 1.5
+    with pytest.raises(ValueError, match="not a number per kg"):
+        transparency(cloud=xr.DataArray(np.full_like(q, 5e7), attrs={"units": "m-3"}))
+    with pytest.raises(ValueError, match="without rain"):
+        transparency(rain=np.full_like(q, 5e7))

@@ -990,9 +990,41 @@ static void test_vapour_bounds(void)
   }
 }
 
+/* A CF mass fraction's number concentration through ancillary_variables (CF 3.4): taken where the
+ * linked variable is a number per kg (the sizes then follow from q and N: more droplets of the
+ * same water are smaller, and extinguish more, as N^(1/3) for a fixed shape), passed over where
+ * it is a flag. */
+static void test_cf_numbers(void)
+{
+  const char *cdl =
+      "netcdf cfn {\n dimensions: z = 1 ; y = 2 ; x = 2 ;\n variables:\n"
+      " float z(z) ; z:units = \"m\" ; float y(y) ; y:units = \"km\" ; float x(x) ; x:units = \"km\" ;\n"
+      " float cl(z, y, x) ; cl:standard_name = \"mass_fraction_of_cloud_liquid_water_in_air\" ;"
+      " cl:ancillary_variables = \"%s\" ;\n float cl_flag(z, y, x) ; cl_flag:units = \"1\" ;\n"
+      " float ncl(z, y, x) ; ncl:units = \"kg-1\" ;\n float rho(z, y, x) ; rho:standard_name = \"air_density\" ;\n"
+      " data:\n z = 500 ; y = 0, 3 ; x = 0, 3 ; cl = 1e-3, 1e-3, 1e-3, 1e-3 ; cl_flag = 1, 1, 1, 1 ;"
+      " ncl = 1e8, 1e9, 1e8, 1e8 ; rho = 1, 1, 1, 1 ;\n}\n";
+  char text[2048];
+  sl_storm_frame f;
+  snprintf(text, sizeof text, cdl, "cl_flag ncl");
+  if (!load(make("cfn", text), NULL, &f)) {
+    CHECK(strcmp(f.species[0].number_variable, "ncl") == 0 && sl_species_sized(&f.species[0]));
+    const double ratio = eta_at(&f, SL_CLOUD, 1, 0) / eta_at(&f, SL_CLOUD, 0, 0);
+    CHECK_MSG(ratio > 1.5 && ratio < 3.0, "ten times the droplets: about 10^(1/3) the extinction");
+    sl_storm_frame_free(&f);
+  }
+  snprintf(text, sizeof text, cdl, "cl_flag");
+  if (!load(make("cff", text), NULL, &f)) {
+    CHECK(f.species[0].number_variable[0] == '\0' && !sl_species_sized(&f.species[0]));
+    CHECK_CLOSE(eta_at(&f, SL_CLOUD, 0, 0), 1e-3 / sl_particle_mass(SL_CLOUD), 1e-5, 0.0);
+    sl_storm_frame_free(&f);
+  }
+}
+
 int main(void)
 {
   if (!mkdtemp(dir)) return 1;
+  test_cf_numbers();
   test_density_and_single_moment();
   test_split_and_double_moment();
   test_sizes();
