@@ -21,6 +21,7 @@
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
+#include "sl_renderer.h"
 #include "sl_storm.h"
 
 namespace {
@@ -514,7 +515,13 @@ int sl_cmd_reference(int argc, char **argv)
   sc.skylight = s.skylight;
   sc.max_scatter = s.max_scatter;
   sc.seed = (unsigned long long)seed;
-  const sl_camera &cam = s.camera;
+  // Eye rays stop at the round ground under --curvature drop, as render's and validate's do.
+  sl_camera cam = s.camera;
+  std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
+  if (sc.atmosphere && sc.atmosphere->ground_radius > 0.0) {
+    sl_camera_ground_distance(&cam, sc.atmosphere, ground.data());
+    cam.opaque_distance = ground.data();
+  }
   sl_ref_accum acc{};
   sl_image layer{}, background{}, frame{}, se_img{};
   std::vector<float> se((size_t)cam.width * cam.height * 3);

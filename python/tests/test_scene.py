@@ -222,3 +222,15 @@ def test_srgb_is_what_the_png_holds(datasets, tmp_path):
     assert np.array_equal(frame.srgb(exposure=5), png)
     assert frame.srgb().dtype == np.uint8 and frame.srgb().shape == (48, 72, 3)
     assert not np.array_equal(frame.srgb(exposure=5), frame.srgb(exposure=50))
+
+
+def test_reference_on_the_round_earth_equals_the_command_lines(cli, shared, tmp_path):
+    # Under --curvature drop the round ground stops the eye rays in both references.
+    scene_file = tmp_path / "curved.json"
+    scene_file.write_text('{"data": "%s", "time": 2, "width": 40, "height": 24, "curvature": "drop", '
+                          '"max-fields": 4, "camera-position": [-60000, -250000, 1500], '
+                          '"camera-target": [0, 0, 3000], "fov": 30, "sun-elevation": 20, "sun-azimuth": 120}'
+                          % (shared / "data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc"))
+    ref = stormlight.Scene.from_json(scene_file).reference(spp=4, seed=2)
+    cli("reference", "--scene", scene_file, "--spp", 4, "--seed", 2, "--quiet", "--out", tmp_path / "ref.exr")
+    assert stormlight.compare(ref, stormlight.Frame.read_exr(tmp_path / "ref.exr"))["relative_rmse"] == 0.0
