@@ -65,12 +65,12 @@ def _text(key: str, value: Any) -> Optional[str]:
 class Scene:
     """A storm and the options of ``stormlight render``, built once and rendered many times.
 
-    ``Scene("wrfout.nc", width=640, height=360, sun_elevation=8, sun_azimuth=250)`` (or a Storm
-    from ``stormlight.open``, ``Storm.from_xarray`` or ``Storm.from_arrays`` in place of the path,
-    its load options taken with it) reads and
-    checks every option at once (``ValueError`` with the command line's one-line message); the
-    storm is loaded, the air and the particle tables built on the first ``render()`` and kept
-    for the next ones. ``close()`` (or a ``with`` block) frees them at once.
+    ``Scene("wrfout.nc", width=640, height=360, sun_elevation=8, sun_azimuth=250)`` checks every
+    option at once (``ValueError`` with the command line's one-line message). A Storm from
+    ``stormlight.open``, ``Storm.from_xarray`` or ``Storm.from_arrays`` may stand in place of the
+    path; its load options come with it. The storm is loaded, and the air and the particle tables
+    built, on the first ``render()``, and kept for the next ones. ``close()`` (or a ``with``
+    block) frees them at once.
     """
 
     def __init__(self, data: "PathLike | Storm", **options: Any) -> None:
