@@ -13,11 +13,6 @@
 
 namespace {
 
-const char *storm_kind_name(sl_storm_format kind)
-{
-  return kind == SL_STORM_WRF ? "WRF" : kind == SL_STORM_CM1 ? "CM1" : "CF";
-}
-
 // "ice below 0 C, cloud above" for split species, else the type's name.
 std::string species_types(const sl_species &sp)
 {
@@ -68,8 +63,6 @@ int sl_cmd_info(int argc, char **argv)
   long t;
   if (!o.integer("time", &t, 0, SL_MAX_TIMES - 1)) return sl::fail("info", o.error(), 2);
   sl_error err{};
-  std::unique_ptr<sl_storm_info> info(new sl_storm_info);
-  if (sl_storm_read_info(path.c_str(), info.get(), &err)) return sl::fail("info", err.message);
   sl::LoadOptions load;
   std::string load_error;
   if (!sl::parse_load_options(o, &load, &load_error)) return sl::fail("info", load_error, 2);
@@ -82,6 +75,8 @@ int sl_cmd_info(int argc, char **argv)
     std::free(text);
     return 0;
   }
+  std::unique_ptr<sl_storm_info> info(new sl_storm_info);
+  if (sl_storm_read_info(path.c_str(), info.get(), &err)) return sl::fail("info", err.message);
   sl_storm_frame frame;
   if (sl_storm_load(path.c_str(), &load.load, &frame, &err)) return sl::fail("info", err.message);
   const sl_volume &v = frame.volume;
@@ -106,7 +101,7 @@ int sl_cmd_info(int argc, char **argv)
     else
       std::printf("projection  none: a flat Cartesian grid with no place on the earth (render places it with "
                   "--origin LAT,LON, the sun with --date or --sun-azimuth/--sun-elevation)\n");
-    std::printf("format      %s, %s\n", storm_kind_name(info->kind), sl_netcdf_format_name(info->format));
+    std::printf("format      %s, %s\n", sl_storm_kind_name(info->kind), sl_netcdf_format_name(info->format));
     if (info->mp_physics >= 0) std::printf("physics     %s (MP_PHYSICS %d)\n", info->scheme, info->mp_physics);
     else std::printf("physics     %s\n", info->scheme);
     std::printf("memory      a load needs about %.1f MB (available %.1f GB)\n", frame.memory_estimate / 1e6,

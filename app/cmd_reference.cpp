@@ -21,7 +21,7 @@
 #include "sl_image_io.h"
 #include "sl_optics.h"
 #include "sl_reference.h"
-#include "sl_renderer.h"
+#include "sl_scene_build.h"
 #include "sl_storm.h"
 
 namespace {
@@ -518,10 +518,7 @@ int sl_cmd_reference(int argc, char **argv)
   // Eye rays stop at the round ground under --curvature drop, as render's and validate's do.
   sl_camera cam = s.camera;
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
-  if (sc.atmosphere && sc.atmosphere->ground_radius > 0.0) {
-    sl_camera_ground_distance(&cam, sc.atmosphere, ground.data());
-    cam.opaque_distance = ground.data();
-  }
+  if (sl_scene_ground_opaque(sc.atmosphere, &cam, ground.data())) cam.opaque_distance = ground.data();
   sl_ref_accum acc{};
   sl_image layer{}, background{}, frame{}, se_img{};
   std::vector<float> se((size_t)cam.width * cam.height * 3);

@@ -187,7 +187,7 @@ static int render_main(int argc, char **argv)
   // (only with --curvature drop: the flat ground never cuts the volume). Also the frame's Z.
   std::vector<float> opaque((size_t)cam.width * cam.height, INFINITY);
   if (cam.opaque_distance) std::copy(cam.opaque_distance, cam.opaque_distance + opaque.size(), opaque.begin());
-  if (sl_scene_ground_opaque(&scene, &cam, opaque.data())) cam.opaque_distance = opaque.data();
+  if (sl_scene_ground_opaque(scene.atmosphere, &cam, opaque.data())) cam.opaque_distance = opaque.data();
   // Night: the stated night-sky luminance and the town's lamps (their eye rays stop at them).
   sl::NightScene night;
   {

@@ -366,7 +366,7 @@ int sl_cmd_validate(int argc, char **argv)
     sl_scene_camera(settings.get(), lo, hi, &cam);
   }
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
-  if (sl_scene_ground_opaque(&base_scene, &cam, ground.data())) cam.opaque_distance = ground.data();
+  if (sl_scene_ground_opaque(base_scene.atmosphere, &cam, ground.data())) cam.opaque_distance = ground.data();
   const size_t np = (size_t)cam.width * cam.height;
 
   // The reference: read, or rendered now at the scene's wavelengths.

@@ -205,10 +205,9 @@ void sl_scene_camera(const sl_settings *s, const double lo[3], const double hi[3
   if (sl_settings_given(s, "camera-position")) memcpy(cam->position, s->camera_position, sizeof cam->position);
 }
 
-int sl_scene_ground_opaque(const sl_scene *scene, const sl_camera *cam, float *opaque)
+int sl_scene_ground_opaque(const sl_atmosphere *air, const sl_camera *cam, float *opaque)
 {
-  const sl_atmosphere *atm = scene->atmosphere;
-  if (!atm || !(atm->ground_radius > 0.0)) return 0;
-  sl_camera_ground_distance(cam, atm, opaque);
+  if (!air || !(air->ground_radius > 0.0)) return 0;
+  sl_camera_ground_distance(cam, air, opaque);
   return 1;
 }

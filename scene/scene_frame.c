@@ -42,7 +42,7 @@ static int frame_begin(const sl_settings *s, const sl_built_scene *b, sl_camera 
   p->opaque = malloc(n * sizeof *p->opaque);
   if (!p->opaque) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
   for (size_t i = 0; i < n; ++i) p->opaque[i] = INFINITY;
-  if (sl_scene_ground_opaque(&b->scene, cam, p->opaque)) cam->opaque_distance = p->opaque;
+  if (sl_scene_ground_opaque(b->scene.atmosphere, cam, p->opaque)) cam->opaque_distance = p->opaque;
   if (sl_image_alloc(&p->volume, cam->width, cam->height, err) || sl_image_alloc(&p->sky, cam->width, cam->height, err) ||
       sl_image_alloc(frame, cam->width, cam->height, err))
     return err->code;

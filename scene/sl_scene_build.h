@@ -65,11 +65,11 @@ void sl_built_scene_free(sl_built_scene *b);
  * reference medium's, which are defined alike) seen from view-azimuth and view-elevation at fov,
  * or camera-position and camera-target where given. */
 void sl_scene_camera(const sl_settings *s, const double lo[3], const double hi[3], sl_camera *cam);
-/* Where each of cam's pixel rays meets the scene's round ground (its air's ground_radius, set with
- * curvature drop), lowering opaque (width x height, distances along the rays; the terrain's or
+/* Where each of cam's pixel rays meets the round ground of the scene's air (its ground_radius, set
+ * with curvature drop), lowering opaque (width x height, distances along the rays; the terrain's or
  * INFINITY) to it, so that the volume draws nothing behind the horizon; returns 0 and leaves
- * opaque untouched on flat ground. */
-int sl_scene_ground_opaque(const sl_scene *scene, const sl_camera *cam, float *opaque);
+ * opaque untouched without air or on flat ground. */
+int sl_scene_ground_opaque(const sl_atmosphere *air, const sl_camera *cam, float *opaque);
 
 #ifdef __cplusplus
 }

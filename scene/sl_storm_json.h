@@ -11,8 +11,9 @@
 extern "C" {
 #endif
 
-/* A WRF MAP_PROJ and a netCDF format code (NC_FORMAT_*) in words. */
+/* A WRF MAP_PROJ, a netCDF format code (NC_FORMAT_*) and a storm file's kind in words. */
 const char *sl_projection_name(int map_proj);
+const char *sl_storm_kind_name(sl_storm_format kind);
 const char *sl_netcdf_format_name(int format);
 
 /* The JSON text (malloc'd; the caller frees it), or NULL with err naming the file. */

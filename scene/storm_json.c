@@ -28,6 +28,11 @@ const char *sl_netcdf_format_name(int format)
   }
 }
 
+const char *sl_storm_kind_name(sl_storm_format kind)
+{
+  return kind == SL_STORM_WRF ? "WRF" : kind == SL_STORM_CM1 ? "CM1" : "CF";
+}
+
 static void add_numbers(cJSON *parent, const char *name, const double *v, int n)
 {
   cJSON *a = cJSON_AddArrayToObject(parent, name);
@@ -176,7 +181,7 @@ char *sl_storm_info_json(const char *path, const sl_load_options *load, sl_error
   add_grid(root, info, &frame);
   add_placement(root, info, &frame);
   cJSON_AddNumberToObject(root, "mp_physics", info->mp_physics);
-  cJSON_AddStringToObject(root, "format", info->kind == SL_STORM_WRF ? "WRF" : info->kind == SL_STORM_CM1 ? "CM1" : "CF");
+  cJSON_AddStringToObject(root, "format", sl_storm_kind_name(info->kind));
   cJSON_AddStringToObject(root, "netcdf_format", sl_netcdf_format_name(info->format));
   cJSON_AddStringToObject(root, "scheme", info->scheme);
   cJSON_AddStringToObject(root, "vertical", info->vertical);

@@ -16,6 +16,10 @@ PyObject *slpy_raise(const sl_error *err); /* the error as OSError, ValueError, 
 PyObject *slpy_vector3(const double v[3]);
 PyObject *slpy_bytes(const float *values, size_t count);
 PyObject *slpy_double_list(const double *v, int n);
+/* Settings from a sequence of str (render's arguments: the storm file, "--option value" pairs): the
+ * defaults, then the option table's parser, then (check) sl_settings_check; -1 with the exception
+ * set. */
+int slpy_settings_from_args(PyObject *args, sl_settings *s, int check);
 
 /* renderer.c */
 extern PyTypeObject slpy_renderer_type;

@@ -44,6 +44,35 @@ PyObject *slpy_double_list(const double *v, int n)
   return list;
 }
 
+int slpy_settings_from_args(PyObject *args, sl_settings *s, int check)
+{
+  PyObject *seq = PySequence_Fast(args, "args must be a sequence of str");
+  if (!seq) return -1;
+  const Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
+  char **argv = calloc((size_t)n + 1, sizeof *argv);
+  int rc = 0;
+  if (!argv) PyErr_NoMemory(), rc = -1;
+  for (Py_ssize_t i = 0; !rc && i < n; ++i) {
+    PyObject *item = PySequence_Fast_GET_ITEM(seq, i);
+    argv[i] = PyUnicode_Check(item) ? (char *)PyUnicode_AsUTF8(item) : NULL; /* kept alive by seq */
+    if (!argv[i]) {
+      if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "args must be a sequence of str");
+      rc = -1;
+    }
+  }
+  if (!rc) {
+    sl_error err = {0};
+    sl_settings_defaults(s);
+    if (sl_settings_parse_args(s, (int)n, argv, &err) || (check && sl_settings_check(s, &err))) {
+      slpy_raise(&err);
+      rc = -1;
+    }
+  }
+  free(argv);
+  Py_DECREF(seq);
+  return rc;
+}
+
 static const char *option_type_name(sl_option_type t)
 {
   switch (t) {

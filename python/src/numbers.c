@@ -57,7 +57,7 @@ PyObject *slpy_storm_info(PyObject *Py_UNUSED(module), PyObject *args)
     Py_XDECREF(x);
   }
   const int nt = info->has_times ? (info->ntimes < SL_MAX_TIMES ? info->ntimes : SL_MAX_TIMES) : 0;
-  const char *kind = info->kind == SL_STORM_WRF ? "WRF" : info->kind == SL_STORM_CM1 ? "CM1" : "CF";
+  const char *kind = sl_storm_kind_name(info->kind);
   PyObject *out = species && elapsed
                       ? Py_BuildValue("{s:s,s:s,s:i,s:(iii),s:i,s:(dd),s:i,s:s,s:s,s:N,s:N,s:s,s:N,s:N}", "path",
                                       info->path, "kind", kind, "format", info->format, "shape", info->nx, info->ny,
@@ -75,52 +75,32 @@ PyObject *slpy_storm_info(PyObject *Py_UNUSED(module), PyObject *args)
   return out;
 }
 
-/* sun_position(iso8601, lat, lon) -> dict: the sun's apparent position (sl_solar_position_compute,
- * with refraction, as `stormlight sun`). */
 /* info_json(args) -> str: `stormlight info --json` of the storm file and load options in render's
  * arguments (the file first), by the same C (sl_storm_info_json). */
 PyObject *slpy_info_json(PyObject *Py_UNUSED(module), PyObject *args)
 {
   PyObject *list;
   if (!PyArg_ParseTuple(args, "O", &list)) return NULL;
-  PyObject *seq = PySequence_Fast(list, "info_json: args must be a sequence of str");
-  if (!seq) return NULL;
-  const Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
-  char **argv = calloc((size_t)n + 1, sizeof *argv);
   sl_settings *s = malloc(sizeof *s);
+  if (!s) return PyErr_NoMemory();
   PyObject *out = NULL;
-  int ok = argv && s;
-  for (Py_ssize_t i = 0; ok && i < n; ++i) {
-    PyObject *item = PySequence_Fast_GET_ITEM(seq, i);
-    argv[i] = PyUnicode_Check(item) ? (char *)PyUnicode_AsUTF8(item) : NULL;
-    if (!argv[i]) {
-      if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "info_json: args must be a sequence of str");
-      ok = 0;
-    }
-  }
-  if (!argv || !s) PyErr_NoMemory();
-  if (ok) {
+  if (!slpy_settings_from_args(list, s, 0)) {
+    sl_load_options load;
+    sl_settings_load_options(s, 0, &load);
     sl_error err = {0};
-    sl_settings_defaults(s);
-    if (sl_settings_parse_args(s, (int)n, argv, &err)) {
-      slpy_raise(&err);
-    } else {
-      sl_load_options load;
-      sl_settings_load_options(s, 0, &load);
-      char *text;
-      Py_BEGIN_ALLOW_THREADS
-      text = sl_storm_info_json(s->data, &load, &err);
-      Py_END_ALLOW_THREADS
-      out = text ? PyUnicode_FromString(text) : slpy_raise(&err);
-      free(text);
-    }
+    char *text;
+    Py_BEGIN_ALLOW_THREADS
+    text = sl_storm_info_json(s->data, &load, &err);
+    Py_END_ALLOW_THREADS
+    out = text ? PyUnicode_FromString(text) : slpy_raise(&err);
+    free(text);
   }
   free(s);
-  free(argv);
-  Py_DECREF(seq);
   return out;
 }
 
+/* sun_position(iso8601, lat, lon) -> dict: the sun's apparent position (sl_solar_position_compute,
+ * with refraction, as `stormlight sun`). */
 PyObject *slpy_sun_position(PyObject *Py_UNUSED(module), PyObject *args)
 {
   const char *when;

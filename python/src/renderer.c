@@ -38,42 +38,14 @@ static int renderer_init(Renderer *self, PyObject *args, PyObject *kwargs)
   static char *keywords[] = {"args", NULL};
   PyObject *list;
   if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O", keywords, &list)) return -1;
-  PyObject *seq = PySequence_Fast(list, "Renderer: args must be a sequence of str");
-  if (!seq) return -1;
-  const Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
-  char **argv = calloc((size_t)n + 1, sizeof *argv);
-  int rc = argv ? 0 : -1;
-  for (Py_ssize_t i = 0; !rc && i < n; ++i) {
-    PyObject *item = PySequence_Fast_GET_ITEM(seq, i);
-    const char *text = PyUnicode_Check(item) ? PyUnicode_AsUTF8(item) : NULL;
-    if (!text) {
-      if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "Renderer: args must be a sequence of str");
-      rc = -1;
-    } else {
-      argv[i] = (char *)text; /* kept alive by seq */
-    }
+  renderer_release(self);
+  if (!self->settings) self->settings = malloc(sizeof *self->settings);
+  if (!self->lock) self->lock = PyThread_allocate_lock();
+  if (!self->settings || !self->lock) {
+    PyErr_NoMemory();
+    return -1;
   }
-  if (!argv) PyErr_NoMemory();
-  if (!rc) {
-    renderer_release(self);
-    if (!self->settings) self->settings = malloc(sizeof *self->settings);
-    if (!self->lock) self->lock = PyThread_allocate_lock();
-    if (!self->settings || !self->lock) {
-      PyErr_NoMemory();
-      rc = -1;
-    }
-  }
-  if (!rc) {
-    sl_error err = {0};
-    sl_settings_defaults(self->settings);
-    if (sl_settings_parse_args(self->settings, (int)n, argv, &err) || sl_settings_check(self->settings, &err)) {
-      slpy_raise(&err);
-      rc = -1;
-    }
-  }
-  free(argv);
-  Py_DECREF(seq);
-  return rc;
+  return slpy_settings_from_args(list, self->settings, 1);
 }
 
 /* Builds the scene if it is not built; called with the GIL released and the lock held. */
@@ -118,6 +90,49 @@ static PyObject *frame_dict(const sl_image *frame, const sl_camera *cam, const d
                 : NULL;
 }
 
+/* A frame drawer: the fast renderer's or the reference's, given the built scene. */
+typedef int (*frame_drawer)(Renderer *self, void *how, sl_camera *cam, sl_image *frame, sl_error *err);
+
+/* draw's frame with the GIL released and the lock held, on `threads` OpenMP threads of this
+ * thread's teams (0: the scene's threads, else the default), the scene built first if it is not;
+ * the sun's direction and the seconds taken with it. */
+static int renderer_frame(Renderer *self, int threads, frame_drawer draw, void *how, sl_camera *cam, sl_image *frame,
+                          double sun[3], double *seconds, sl_error *err)
+{
+  if (!threads) threads = self->settings->threads > 0 ? self->settings->threads : slpy_default_threads;
+  int rc;
+  Py_BEGIN_ALLOW_THREADS
+  PyThread_acquire_lock(self->lock, WAIT_LOCK);
+  omp_set_num_threads(threads);
+  const double t0 = omp_get_wtime();
+  rc = renderer_ensure_built(self, err);
+  if (!rc) rc = draw(self, how, cam, frame, err);
+  if (!rc) memcpy(sun, self->built->scene.sun_direction, 3 * sizeof *sun);
+  *seconds = omp_get_wtime() - t0;
+  PyThread_release_lock(self->lock);
+  Py_END_ALLOW_THREADS
+  return rc;
+}
+
+static int draw_fast(Renderer *self, void *stats, sl_camera *cam, sl_image *frame, sl_error *err)
+{
+  return sl_scene_render_frame(self->settings, self->built, cam, frame, stats, err);
+}
+
+typedef struct reference_request {
+  long spp;
+  unsigned long long seed;
+  int skylight;
+  float *stderr_rgb;
+} reference_request;
+
+static int draw_reference(Renderer *self, void *how, sl_camera *cam, sl_image *frame, sl_error *err)
+{
+  const reference_request *q = how;
+  return sl_scene_reference_frame(self->settings, self->built, q->spp, q->seed, q->skylight, cam, frame, q->stderr_rgb,
+                                  err);
+}
+
 /* render(threads=0) -> dict: the frame as render --cpu-composite draws it (sl_scene_render_frame):
  * width, height, rgba/depth/transparency as bytes of float32 (rows from the top), the camera and
  * the sun's direction (toward the sun, in the grid's axes) and the time it took. */
@@ -130,24 +145,12 @@ static PyObject *renderer_render(Renderer *self, PyObject *args, PyObject *kwarg
     PyErr_SetString(PyExc_ValueError, "threads must be >= 0 (0: the default)");
     return NULL;
   }
-  if (!threads) threads = self->settings->threads > 0 ? self->settings->threads : slpy_default_threads;
   sl_error err = {0};
   sl_camera cam;
   sl_image frame = {0};
   sl_render_stats stats = {0};
   double sun[3] = {0, 0, 0}, seconds = 0.0;
-  int rc;
-  Py_BEGIN_ALLOW_THREADS
-  PyThread_acquire_lock(self->lock, WAIT_LOCK);
-  omp_set_num_threads(threads); /* this thread's teams only */
-  const double t0 = omp_get_wtime();
-  rc = renderer_ensure_built(self, &err);
-  if (!rc) rc = sl_scene_render_frame(self->settings, self->built, &cam, &frame, &stats, &err);
-  if (!rc) memcpy(sun, self->built->scene.sun_direction, sizeof sun);
-  seconds = omp_get_wtime() - t0;
-  PyThread_release_lock(self->lock);
-  Py_END_ALLOW_THREADS
-  if (rc) return slpy_raise(&err);
+  if (renderer_frame(self, threads, draw_fast, &stats, &cam, &frame, sun, &seconds, &err)) return slpy_raise(&err);
   PyObject *out = frame_dict(&frame, &cam, sun, seconds);
   sl_image_free(&frame);
   PyObject *slices = out ? PyLong_FromLong(stats.slices) : NULL;
@@ -164,42 +167,30 @@ static PyObject *renderer_render(Renderer *self, PyObject *args, PyObject *kwarg
 static PyObject *renderer_reference(Renderer *self, PyObject *args, PyObject *kwargs)
 {
   static char *keywords[] = {"spp", "seed", "skylight", "threads", NULL};
-  long spp;
-  unsigned long long seed = 1;
-  int skylight = 0, threads = 0;
-  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "l|Kpi", keywords, &spp, &seed, &skylight, &threads)) return NULL;
-  if (spp < 1 || threads < 0) {
+  reference_request q = {.seed = 1};
+  int threads = 0;
+  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "l|Kpi", keywords, &q.spp, &q.seed, &q.skylight, &threads))
+    return NULL;
+  if (q.spp < 1 || threads < 0) {
     PyErr_SetString(PyExc_ValueError, "spp must be >= 1 and threads >= 0");
     return NULL;
   }
-  if (!threads) threads = self->settings->threads > 0 ? self->settings->threads : slpy_default_threads;
+  /* The camera's size is the settings' (sl_scene_camera). */
+  q.stderr_rgb = malloc((size_t)self->settings->width * self->settings->height * 3 * sizeof *q.stderr_rgb);
+  if (!q.stderr_rgb) return PyErr_NoMemory();
   sl_error err = {0};
   sl_camera cam;
   sl_image frame = {0};
-  float *se = NULL;
   double sun[3] = {0, 0, 0}, seconds = 0.0;
-  int rc;
-  Py_BEGIN_ALLOW_THREADS
-  PyThread_acquire_lock(self->lock, WAIT_LOCK);
-  omp_set_num_threads(threads);
-  const double t0 = omp_get_wtime();
-  rc = renderer_ensure_built(self, &err);
-  if (!rc) {
-    se = malloc((size_t)self->settings->width * self->settings->height * 3 * sizeof *se);
-    rc = se ? sl_scene_reference_frame(self->settings, self->built, spp, seed, skylight, &cam, &frame, se, &err)
-            : sl_fail(&err, SL_ERR_NOMEM, "reference: out of memory");
-  }
-  if (!rc) memcpy(sun, self->built->scene.sun_direction, sizeof sun);
-  seconds = omp_get_wtime() - t0;
-  PyThread_release_lock(self->lock);
-  Py_END_ALLOW_THREADS
-  PyObject *out = rc ? slpy_raise(&err) : frame_dict(&frame, &cam, sun, seconds);
+  PyObject *out = renderer_frame(self, threads, draw_reference, &q, &cam, &frame, sun, &seconds, &err)
+                      ? slpy_raise(&err)
+                      : frame_dict(&frame, &cam, sun, seconds);
   if (out) {
-    PyObject *b = slpy_bytes(se, (size_t)frame.width * frame.height * 3);
+    PyObject *b = slpy_bytes(q.stderr_rgb, (size_t)frame.width * frame.height * 3);
     if (!b || PyDict_SetItemString(out, "stderr", b)) Py_CLEAR(out);
     Py_XDECREF(b);
   }
-  free(se);
+  free(q.stderr_rgb);
   sl_image_free(&frame);
   return out;
 }

@@ -62,6 +62,19 @@ def _text(key: str, value: Any) -> Optional[str]:
     return _number(value)
 
 
+def _arguments(data: str, options: Mapping[str, Any]) -> list:
+    """A storm file and options (hyphenated keys) as render's command-line arguments."""
+    args = [data]
+    for key, value in options.items():
+        text = _text(key, value)
+        if text is None:
+            continue
+        args.append("--" + key)
+        if _TABLE[key]["type"] != "flag":
+            args.append(text)
+    return args
+
+
 class Scene:
     """A storm and the options of ``stormlight render``, built once and rendered many times.
 
@@ -88,15 +101,7 @@ class Scene:
         self._renderer = _stormlight.Renderer(self._arguments())
 
     def _arguments(self) -> list:
-        args = [self._data]
-        for key, value in self._options.items():
-            text = _text(key, value)
-            if text is None:
-                continue
-            args.append("--" + key)
-            if text != "" or _TABLE[key]["type"] != "flag":
-                args.append(text)
-        return args
+        return _arguments(self._data, self._options)
 
     @property
     def data(self) -> str:

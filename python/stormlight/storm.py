@@ -17,7 +17,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _stormlight
-from .scene import _TABLE, _key
+from .scene import _arguments, _key
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -63,13 +63,7 @@ class Storm:
         the file's grid and the loaded uniform grid, extent, terrain, placement and projection,
         scheme, species with where their sizes come from, size tables, field statistics, memory,
         times. Loads the storm (the properties below do not)."""
-        from .scene import _text
-        args = [self.path]
-        for key, value in self.load_options.items():
-            text = _text(key, value)
-            if text is not None:
-                args += ["--" + key] + ([text] if _TABLE[key]["type"] != "flag" else [])
-        return json.loads(_stormlight.info_json(args))
+        return json.loads(_stormlight.info_json(_arguments(self.path, self.load_options)))
 
     @property
     def times(self) -> List[str]:

@@ -82,6 +82,16 @@ static void test_documented_keys(const char *scenes_md)
   }
 }
 
+/* A file holding text (a scene). */
+static void write_text(const char *path, const char *text)
+{
+  FILE *f = fopen(path, "w");
+  CHECK(f != NULL);
+  if (!f) return;
+  fputs(text, f);
+  fclose(f);
+}
+
 static void test_args_and_json(const char *work)
 {
   sl_settings a, b;
@@ -148,23 +158,17 @@ static void test_args_and_json(const char *work)
         strstr(e.message, path));
   /* A scene as validate and reference read it: the defaults, the file, then the overrides win; a
    * scene with no storm file, or whose options contradict, is refused naming the file. */
-  f = fopen(path, "w");
-  fprintf(f, "{\"data\": \"s.nc\", \"width\": 64, \"xi\": 0.2}");
-  fclose(f);
+  write_text(path, "{\"data\": \"s.nc\", \"width\": 64, \"xi\": 0.2}");
   char *overrides[] = {"--width", "32", "--fov", "30"};
   e = (sl_error){0};
   CHECK(sl_settings_from_scene(&b, path, 4, overrides, &e) == SL_OK);
   CHECK(b.width == 32 && b.height == 512 && b.fov_deg == 30.0 && b.xi == 0.2 && !strcmp(b.data, data));
   CHECK(sl_settings_given(&b, "xi") && !sl_settings_given(&b, "slices"));
-  f = fopen(path, "w");
-  fprintf(f, "{\"width\": 64}");
-  fclose(f);
+  write_text(path, "{\"width\": 64}");
   e = (sl_error){0};
   CHECK(sl_settings_from_scene(&b, path, 0, NULL, &e) == SL_ERR_ARG && strstr(e.message, "names no \"data\"") &&
         strstr(e.message, path));
-  f = fopen(path, "w");
-  fprintf(f, "{\"data\": \"s.nc\", \"sun-azimuth\": 90}");
-  fclose(f);
+  write_text(path, "{\"data\": \"s.nc\", \"sun-azimuth\": 90}");
   e = (sl_error){0};
   CHECK(sl_settings_from_scene(&b, path, 0, NULL, &e) == SL_ERR_ARG && strstr(e.message, "--sun-elevation") &&
         strstr(e.message, path));
