@@ -334,11 +334,15 @@ static int render_main(int argc, char **argv)
                 "composite %.3f s, write %.3f s\n",
                 path.c_str(), time_index, cam.width, cam.height, t_load, stats.light_seconds, stats.eye_seconds,
                 t_composite, t_write);
-  else if (!quiet)
-    std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, light pass %.3f s, eye "
+  if (!quiet && !gpu_done) {
+    char sky_note[48] = "";
+    if (stats.sky_seconds > 0) std::snprintf(sky_note, sizeof sky_note, "skylight %.3f s, ", stats.sky_seconds);
+    std::printf("rendered %s time %ld: %dx%d, %d slices, light buffer %dx%d; load %.3f s, %slight pass %.3f s, eye "
                 "pass %.3f s, composite %.3f s, write %.3f s\n",
                 path.c_str(), time_index, cam.width, cam.height, stats.slices, stats.light_width,
-                stats.light_height, t_load, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
+                stats.light_height, t_load,
+                sky_note, stats.light_seconds, stats.eye_seconds, t_composite, t_write);
+  }
   if (json) {
     double fwd[3], right[3], up[3];
     sl_camera_basis(&cam, fwd, right, up);

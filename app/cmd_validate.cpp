@@ -54,6 +54,10 @@ const char *kCmd = "validate";
 // thin below kThinTau, dense above.
 const double kVolumeTau = 0.01;
 const double kThinTau = 2.0;
+// A volume block whose pixels' visible surfaces (optical depth 1 along the view ray) keep less than
+// this of the sunlight is also in the class "shadowed": faces in the cloud's own shadow, which only
+// the sky lights (sl_renderer_surface_sunlight).
+const double kShadowedSun = 1e-2;
 
 void progress_hook(void *user, double fraction) { static_cast<sl::Progress *>(user)->update(fraction); }
 
@@ -65,13 +69,14 @@ struct Setting {
   int slices = 0, light_resolution = 0, max_order = 0, march_samples = 0;
   sl_lighting lighting = SL_LIGHTING_MULTIPLE;
   double xi = 0.05;
-  bool spectral = false, light_volume = false;
+  bool spectral = false, light_volume = false, skylight = true;
 };
 
 struct Row {
   Setting s;
   double seconds = 0;
   sl_error_sums all{}, thin{}, dense{};  // per pixel class, over its pixels and R, G, B
+  sl_error_sums shadowed{};              // volume blocks in the cloud's own shadow (thin or dense)
   double mc_seconds = 0, speedup = 0;
   bool pareto = false;
 };
@@ -124,6 +129,7 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
     v.push_back(s);
   };
   add("scene", "scene's settings", [](Setting &) {});
+  add("skylight", base.skylight ? "sun only (no skylight)" : "skylight", [](Setting &s) { s.skylight = !s.skylight; });
   if (quick) {
     add("slices", "slices 64", [](Setting &s) { s.slices = 64; });
     add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
@@ -324,6 +330,7 @@ int sl_cmd_validate(int argc, char **argv)
   base.lighting = (sl_lighting)settings->lighting;
   base.spectral = settings->spectral;
   base.light_volume = settings->light_volume, base.march_samples = settings->march_samples;
+  base.skylight = settings->skylight;
   // Air and particle tables per wavelength set (and per highest order), built once; tables come
   // from the on-disk cache after the first run, so they are not part of any frame's time.
   sl_atmosphere air[2];
@@ -348,6 +355,7 @@ int sl_cmd_validate(int argc, char **argv)
     std::unique_ptr<sl_settings> v(new sl_settings(*settings));
     v->lighting = s.lighting, v->xi = s.xi, v->slices = s.slices, v->light_resolution = s.light_resolution;
     v->light_volume = s.light_volume, v->march_samples = s.march_samples, v->spectral = s.spectral;
+    v->skylight = s.skylight;
     sl_scene_fill(v.get(), built.get(), with_air ? &air[s.spectral] : nullptr, optics, sc);
     return true;
   };
@@ -357,17 +365,22 @@ int sl_cmd_validate(int argc, char **argv)
   sl_scene base_scene;
   if (!scene_for(base, &base_scene)) return sl::fail(kCmd, std::string("particle tables: ") + err.message);
   sl_camera cam{};
+  std::unique_ptr<sl_renderer, void (*)(sl_renderer *)> base_renderer(sl_renderer_create(&base_scene, &err),
+                                                                      sl_renderer_destroy);
+  if (!base_renderer) return sl::fail(kCmd, scene_path + ": " + err.message);
   {
-    sl_renderer *r = sl_renderer_create(&base_scene, &err);
-    if (!r) return sl::fail(kCmd, scene_path + ": " + err.message);
     double lo[3], hi[3];
-    sl_renderer_content_bounds(r, lo, hi);
-    sl_renderer_destroy(r);
+    sl_renderer_content_bounds(base_renderer.get(), lo, hi);
     sl_scene_camera(settings.get(), lo, hi, &cam);
   }
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
   if (sl_scene_ground_opaque(base_scene.atmosphere, &cam, ground.data())) cam.opaque_distance = ground.data();
   const size_t np = (size_t)cam.width * cam.height;
+  // Each pixel's sunlight at its visible surface, for the class "shadowed".
+  std::vector<float> surface_sun(np);
+  if (sl_renderer_surface_sunlight(base_renderer.get(), &cam, surface_sun.data(), &err))
+    return sl::fail(kCmd, scene_path + ": " + err.message);
+  base_renderer.reset();
 
   // The reference: read, or rendered now at the scene's wavelengths.
   Reference ref;
@@ -384,6 +397,7 @@ int sl_cmd_validate(int argc, char **argv)
   for (int c = 0; c < 3; ++c) rsc.sky_radiance[c] = settings->sky[c];
   rsc.seed = (unsigned long long)seed;
   rsc.roulette_depth = (int)roulette_depth;
+  rsc.skylight = base.skylight;  // the fast renderer's default lights the volume by the sky too
   if (o.has("ref")) {
     // One reference, or several independent ones of the same scene (other seeds), comma-separated:
     // their means are pooled weighted by their samples, the standard errors accordingly, and their
@@ -425,6 +439,12 @@ int sl_cmd_validate(int argc, char **argv)
       if (ref.wavelengths != jwl->valuestring)
         return sl::fail(kCmd, stem + ".json: the reference has wavelengths " + jwl->valuestring + ", the scene " +
                                   ref.wavelengths, 2);
+      // A reference without the key predates skylight: it was drawn without it.
+      const cJSON *jsky = cJSON_GetObjectItem(meta.get(), "skylight");
+      if (cJSON_IsTrue(jsky) != base.skylight)
+        return sl::fail(kCmd, stem + ".json: the reference was drawn with skylight " +
+                                  (cJSON_IsTrue(jsky) ? "on" : "off") + ", the scene asks for it " +
+                                  (base.skylight ? "on" : "off"), 2);
       if (paths.size() > 1) {
         // Pooling is only right for independent runs.
         if (!cJSON_IsNumber(jseed)) return sl::fail(kCmd, stem + ".json: no seed, so it cannot be pooled", 2);
@@ -481,6 +501,7 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddNumberToObject(meta, "seed", (double)seed);
     cJSON_AddNumberToObject(meta, "roulette_depth", (double)roulette_depth);
     cJSON_AddStringToObject(meta, "wavelengths", ref.wavelengths.c_str());
+    cJSON_AddBoolToObject(meta, "skylight", base.skylight);
     char *text = cJSON_Print(meta);
     const std::string body = std::string(text) + "\n";
     std::free(text);
@@ -507,6 +528,7 @@ int sl_cmd_validate(int argc, char **argv)
   const size_t nb = (size_t)ref_blocks.width * ref_blocks.height;
   std::vector<Row> rows;
   std::vector<unsigned char> cls;  // per block: 0 no volume, 1 thin, 2 dense, from the scene's own setting
+  std::vector<unsigned char> shadowed;  // per volume block: its visible surfaces lie in the cloud's shadow
   double floor = 0;
   for (const Setting &s : variants(base, o.has("quick"), with_air)) {
     sl_scene sc;
@@ -544,6 +566,19 @@ int sl_cmd_validate(int argc, char **argv)
       for (size_t q = 0; q < nb; ++q) {
         const double tau = -std::log(std::max(fast.transparency[q], 1e-300));
         cls[q] = tau < kVolumeTau ? 0 : tau < kThinTau ? 1 : 2;
+        // Shadowed: most of the block's pixels see a surface, and the sun reaching them is below
+        // kShadowedSun on average.
+        {
+          const long bx = (long)(q % fast.width), by = (long)(q / fast.width);
+          double sun = 0;
+          long seen = 0;
+          for (long y = by * block; y < (by + 1) * block; ++y)
+            for (long x = bx * block; x < (bx + 1) * block; ++x) {
+              const float v = surface_sun[(size_t)y * cam.width + x];
+              if (std::isfinite(v)) sun += v, ++seen;
+            }
+          shadowed.push_back(cls[q] && 2 * seen >= block * block && sun / seen < kShadowedSun);
+        }
         if (cls[q]) sum += ref_blocks.rgb[3 * q] + ref_blocks.rgb[3 * q + 1] + ref_blocks.rgb[3 * q + 2], ++count;
       }
       floor = count ? 0.05 * sum / count : 1.0;
@@ -556,8 +591,10 @@ int sl_cmd_validate(int argc, char **argv)
         const double a = fast.rgb[3 * q + c], b = ref_blocks.rgb[3 * q + c], se = ref_blocks.se[3 * q + c];
         sl_error_sums_add(&row.all, a, b, se);
         sl_error_sums_add(cls[q] == 1 ? &row.thin : &row.dense, a, b, se);
+        if (shadowed[q]) sl_error_sums_add(&row.shadowed, a, b, se);
       }
       ++row.all.pixels, ++(cls[q] == 1 ? row.thin : row.dense).pixels;
+      if (shadowed[q]) ++row.shadowed.pixels;
     }
     std::vector<unsigned char> map(3 * (size_t)fast.width * fast.height);
     sl_error_map(&fast, &ref_blocks, cls.data(), floor, 0.5, map.data());
@@ -565,8 +602,10 @@ int sl_cmd_validate(int argc, char **argv)
                           &err))
       return sl::fail(kCmd, err.message);
     if (!quiet)
-      std::fprintf(stderr, "%-30s %8.4f s  relative RMSE %.4f (thin %.4f, dense %.4f)\n", s.name.c_str(), row.seconds,
-                   sl_error_relative_rmse(&row.all), sl_error_relative_rmse(&row.thin), sl_error_relative_rmse(&row.dense));
+      std::fprintf(stderr, "%-30s %8.4f s  relative RMSE %.4f (thin %.4f, dense %.4f, shadowed %.4f; bias %+.3f)\n",
+                   s.name.c_str(), row.seconds, sl_error_relative_rmse(&row.all), sl_error_relative_rmse(&row.thin),
+                   sl_error_relative_rmse(&row.dense), sl_error_relative_rmse(&row.shadowed),
+                   sl_error_bias(&row.shadowed));
     rows.push_back(row);
   }
   if (rows.empty() || rows[0].all.pixels == 0) return sl::fail(kCmd, scene_path + ": no pixel of the frame sees the volume", 2);
@@ -628,14 +667,18 @@ int sl_cmd_validate(int argc, char **argv)
   cJSON_AddNumberToObject(jr, "noise", noise);
   cJSON_AddNumberToObject(jr, "noise_thin", sl_error_noise_rmse(&rows[0].thin));
   cJSON_AddNumberToObject(jr, "noise_dense", sl_error_noise_rmse(&rows[0].dense));
+  cJSON_AddNumberToObject(jr, "noise_shadowed", sl_error_noise_rmse(&rows[0].shadowed));
+  cJSON_AddBoolToObject(jr, "skylight", base.skylight);
+  cJSON_AddNumberToObject(root, "shadowed_sun_below", kShadowedSun);
   cJSON_AddNumberToObject(jr, "noise_worst_block_share", worst_share);
   cJSON_AddStringToObject(jr, "equal_error_model",
                           "Monte Carlo seconds to reach error e = seconds * (noise / e)^2: the variance estimate, "
                           "which falls as 1/spp");
   cJSON *jrows = cJSON_AddArrayToObject(root, "settings");
   std::string md;
-  md += "| setting | s/frame | rel. RMSE all | thin | dense | mean rel. all | thin | dense | bias | MC s, same error | "
-        "speed-up | Pareto |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  md += "| setting | s/frame | rel. RMSE all | thin | dense | shadowed | mean rel. all | thin | dense | shadowed | bias | "
+        "shadowed bias | MC s, same error | speed-up | Pareto |\n"
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const Row &r : rows) {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "name", r.s.name.c_str());
@@ -652,6 +695,8 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddItemToObject(j, "all", class_json(r.all));
     cJSON_AddItemToObject(j, "thin", class_json(r.thin));
     cJSON_AddItemToObject(j, "dense", class_json(r.dense));
+    cJSON_AddItemToObject(j, "shadowed", class_json(r.shadowed));
+    cJSON_AddBoolToObject(j, "skylight", r.s.skylight);
     cJSON_AddNumberToObject(j, "mc_seconds_equal_error", r.mc_seconds);
     cJSON_AddNumberToObject(j, "speedup", r.speedup);
     cJSON_AddBoolToObject(j, "pareto", r.pareto);
@@ -661,8 +706,11 @@ int sl_cmd_validate(int argc, char **argv)
     const auto cell = [](const sl_error_sums &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
     md += "| " + r.s.name + " | " + fmt("%.3g", r.seconds) + " | " + fmt("%.3f", sl_error_relative_rmse(&r.all)) + " | " +
           cell(r.thin, sl_error_relative_rmse(&r.thin)) + " | " + cell(r.dense, sl_error_relative_rmse(&r.dense)) + " | " +
-          fmt("%.3f", sl_error_mean_relative(&r.all)) + " | " + cell(r.thin, sl_error_mean_relative(&r.thin)) + " | " +
-          cell(r.dense, sl_error_mean_relative(&r.dense)) + " | " + fmt("%+.3f", sl_error_bias(&r.all)) + " | " + fmt("%.3g", r.mc_seconds) +
+          cell(r.shadowed, sl_error_relative_rmse(&r.shadowed)) + " | " + fmt("%.3f", sl_error_mean_relative(&r.all)) +
+          " | " + cell(r.thin, sl_error_mean_relative(&r.thin)) + " | " + cell(r.dense, sl_error_mean_relative(&r.dense)) +
+          " | " + cell(r.shadowed, sl_error_mean_relative(&r.shadowed)) + " | " + fmt("%+.3f", sl_error_bias(&r.all)) +
+          " | " + (r.shadowed.pixels ? fmt("%+.3f", sl_error_bias(&r.shadowed)) : std::string("–")) + " | " +
+          fmt("%.3g", r.mc_seconds) +
           " | " + fmt("%.3g", r.speedup) + " | " + (r.pareto ? "yes" : "") + " |\n";
   }
   {
@@ -670,15 +718,18 @@ int sl_cmd_validate(int argc, char **argv)
     const auto cell = [](const sl_error_sums &e, double v) { return e.pixels ? fmt("%.3f", v) : std::string("–"); };
     md += "| *reference noise* | " + fmt("%.3g", ref.seconds) + " | " + fmt("%.3f", noise) + " | " +
           cell(r.thin, sl_error_noise_rmse(&r.thin)) + " | " + cell(r.dense, sl_error_noise_rmse(&r.dense)) + " | " +
-          fmt("%.3f", sl_error_noise_mean(&r.all)) + " | " + cell(r.thin, sl_error_noise_mean(&r.thin)) + " | " +
-          cell(r.dense, sl_error_noise_mean(&r.dense)) + " | | | | |\n";
+          cell(r.shadowed, sl_error_noise_rmse(&r.shadowed)) + " | " + fmt("%.3f", sl_error_noise_mean(&r.all)) + " | " +
+          cell(r.thin, sl_error_noise_mean(&r.thin)) + " | " + cell(r.dense, sl_error_noise_mean(&r.dense)) + " | " +
+          cell(r.shadowed, sl_error_noise_mean(&r.shadowed)) + " | | | | | |\n";
   }
-  char head[640];
+  char head[800];
   std::snprintf(head, sizeof head,
-                "%s, %dx%d, compared in %ldx%ld blocks: %ld volume blocks (%ld thin, tau < 2; %ld dense); reference "
-                "%ld spp (%s) in %.1f s, %d threads; its noisiest block carries %.0f %% of its noise variance.\n\n",
+                "%s, %dx%d, compared in %ldx%ld blocks: %ld volume blocks (%ld thin, tau < 2; %ld dense; %ld shadowed, "
+                "sunlight < %g at the visible surface); reference %ld spp (%s, skylight %s) in %.1f s, %d threads; its "
+                "noisiest block carries %.0f %% of its noise variance.\n\n",
                 scene_path.c_str(), cam.width, cam.height, block, block, rows[0].all.pixels, rows[0].thin.pixels,
-                rows[0].dense.pixels, ref.spp, ref.wavelengths.c_str(), ref.seconds, ref.threads, 100 * worst_share);
+                rows[0].dense.pixels, rows[0].shadowed.pixels, kShadowedSun, ref.spp, ref.wavelengths.c_str(),
+                base.skylight ? "on" : "off", ref.seconds, ref.threads, 100 * worst_share);
   md = head + md;
   if (best_interactive) {
     cJSON *b = cJSON_AddObjectToObject(root, "best_interactive");

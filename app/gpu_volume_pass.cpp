@@ -216,6 +216,7 @@ std::string GpuVolumePass::Unsupported(const sl_renderer *r)
   if (m->nwl != kWavelengths)
     return "the GPU path carries three wavelengths; this scene has " + std::to_string(m->nwl);
   if (m->nf > kMaxFields) return "more than four particle fields";
+  if (in.skylight && !in.sky_ready) return "the skylight's lattice was not built (sl_renderer_prepare_skylight)";
   if (m->mode == SL_LIGHTING_LOW_ALBEDO) return "";
   const sl_phase_table *t0 = m->table[0][0];
   for (int j = 0; j < m->nf; ++j)
@@ -237,7 +238,7 @@ bool GpuVolumePass::Fail(const std::string &why)
 void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
 {
   model_.Release(w);
-  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_}) release(t, w);
+  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_, &sky_}) release(t, w);
   for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_, &resolve_fbo_})
     if (*f) {
       if (w) (*f)->ReleaseGraphicsResources(w);
@@ -371,6 +372,14 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
   }
   model_.Deactivate();
   deactivate({fields_, light_});
+  // The skylight's lattice (render/volume/sky_light.h), built on the CPU for this sun: beta M per
+  // wavelength and beta per sample; one zero texel without it, so the sampler stays valid.
+  const bool sky = in.skylight && in.sky;
+  const float zero[4] = {0, 0, 0, 0};
+  if (!sky_) sky_ = new_float_texture(win);
+  if (!(sky ? sky_->Create3DFromRaw(in.sky_n[0], in.sky_n[1], in.sky_n[2], 4, VTK_FLOAT, const_cast<float *>(in.sky))
+            : sky_->Create3DFromRaw(1, 1, 1, 4, VTK_FLOAT, const_cast<float *>(zero))))
+    return Fail("the OpenGL context cannot hold the skylight's lattice as a float 3D texture");
   swept_ = true;
   return true;
 }
@@ -405,9 +414,22 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, width, height);
   gl->vtkglScissor(0, 0, width, height);
-  activate({fields_, light_, sunlight_, opaque_});
+  activate({fields_, light_, sunlight_, opaque_, sky_});
   model_.Activate();
   vtkShaderProgram *p = eye_quad_->Program;
+  p->SetUniformi("slSkylight", in.skylight && in.sky ? 1 : 0);
+  p->SetUniformi("slSky", sky_->GetTextureUnit());
+  {
+    float o[3], h[3], n[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = (float)(in.sky_origin[a] - in.origin[a]);  // relative to the lattice's first sample
+      h[a] = (float)in.sky_spacing[a];
+      n[a] = (float)in.sky_n[a];
+    }
+    p->SetUniform3f("slSkyOrigin", o);
+    p->SetUniform3f("slSkySpacing", h);
+    p->SetUniform3f("slSkyN", n);
+  }
   SetVolumeUniforms(p);
   SetViewUniforms(p);
   p->SetUniformf("slAngleInvStep", (float)model_.AngleInvStep());
@@ -423,7 +445,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   p->SetUniformf("slMarchSamples", (float)in.march_samples);
   eye_quad_->Render();
   model_.Deactivate();
-  deactivate({fields_, light_, sunlight_, opaque_});
+  deactivate({fields_, light_, sunlight_, opaque_, sky_});
   glFinish();  // the eye pass's time is its own, not the read-back's or the resolve's
   if (!read_accumulator_) return true;
   const auto t = std::chrono::steady_clock::now();

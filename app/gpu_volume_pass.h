@@ -121,6 +121,7 @@ class GpuVolumePass : public vtkRenderPass {
   GpuModelTextures model_;
   vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
   vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
+  vtkTextureObject *sky_ = nullptr;     // the skylight's lattice, per sun
   vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr, *resolve_fbo_ = nullptr;
   vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr, *resolve_quad_ = nullptr;
 };

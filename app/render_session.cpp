@@ -110,6 +110,10 @@ bool RenderSession::draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_im
   sl_error err{};
   if (gpu) {
     GpuTimings gt;
+    if (sl_renderer_prepare_skylight(renderer, nullptr, &err)) {
+      *why = err.message;
+      return false;
+    }
     if (!have_display(gpu_note)) {
     } else if (parts_->gpu.draw(renderer, cam, volume, background, gpu_note, &gt)) {
       *stats = sl_render_stats{};

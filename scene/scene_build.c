@@ -139,6 +139,7 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
   out->lighting = (sl_lighting)s->lighting;
   out->xi = s->xi;
   out->light_volume = s->light_volume;
+  out->skylight = s->skylight;
   /* Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md). */
   sl_sun_direction(b->sun_elevation_deg, sl_georef_grid_azimuth(&b->frame.georef, b->sun_azimuth_deg),
                    out->sun_direction);

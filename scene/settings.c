@@ -74,6 +74,10 @@ const sl_option sl_settings_options[] = {
      "with --light-volume or --gpu: eye samples per grid cell along a ray, 1..8 (fewer is\n"
      "faster and coarser on thick cloud surfaces; docs/ACCURACY.md)",
      "2", SL_OPTION_INT, 1, 8, NULL, NULL, AT(march_samples), NULL},
+    {"skylight", "on|off",
+     "the sky dome's light scattered by the volume too (shadowed faces lit blue, a dark base over\n"
+     "a dark ground; docs/ACCURACY.md, \"Skylight\"), or the sun alone (the paper's model)",
+     "on", SL_OPTION_CHOICE, 0, 0, "off|on", NULL, AT(skylight), NULL},
     {"no-atmosphere", NULL, "no air: unattenuated white sunlight and the constant --sky behind the volume", NULL,
      SL_OPTION_FLAG, 0, 0, NULL, NULL, AT(no_atmosphere), NULL},
     {"camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)", NULL,

@@ -36,6 +36,7 @@ typedef struct sl_settings {
   int fog_haze;                      /* haze (rural aerosol) instead of fog droplets */
   double fog_depth_km;
   int light_volume;
+  int skylight;                      /* the sky dome lights the volume (sl_scene.skylight) */
   int march_samples;
   int no_atmosphere;
   double camera_position[3], camera_target[3]; /* given: "camera-position", "camera-target" */

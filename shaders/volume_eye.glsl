@@ -16,6 +16,7 @@ uniform float slGroundRadius;  // 0: altitude is world z; R: above the sphere ce
 uniform float slTermination;
 uniform float slMarchSamples;  // eye samples per grid cell (light_volume.c's march_samples)
 uniform sampler2D slOpaque;    // distance along each pixel's ray to the terrain or the round earth (rows from the top)
+uniform int slSkylight;        // 1: add the skylight (slSampleSky, sl_sky_step_light)
 in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
 //VTK::Output::Dec
 
@@ -82,6 +83,10 @@ void main()
       vec3 sun = slSunlightAt(x);
       for (int c = 0; c < 3; ++c)
         radiance[c] += T * sl_march_step_light(l0[c], l1[c], moments[0], moments[1], phase[c], 1.0 / b) * sun[c];
+      if (slSkylight != 0) {
+        vec3 sky = slSampleSky(x);
+        for (int c = 0; c < 3; ++c) radiance[c] += T * sl_sky_step_light(beta, c, opacity, 1.0 / b, sky[c]);
+      }
       depth += T * opacity * tm * dot(d, slFwd);
       T *= 1.0 - opacity;
       l0 = l1;

@@ -6,6 +6,7 @@
 #define SL_EYE_BATCH_H
 
 #include "light_kink.h"
+#include "sky_light_gather.h"
 #include "sl_sample_physics.h"
 #include "slicer.h"
 #include "vector_math.h"
@@ -14,6 +15,7 @@
  * vector width, and few enough that the batch's arrays stay in the L1 cache at 16 wavelengths (at
  * a whole tile, 256, the 16-wavelength eye pass ran 1.4x slower). */
 #define EYE_BATCH 32
+_Static_assert(EYE_BATCH == SL__SKY_BATCH, "the skylight gather's rows are an eye batch");
 
 /* The parts an eye sample's segment is taken in, each with the fields at its own middle: one
  * where the segment is optically thin, up to EYE_PARTS_MAX where it is thick (one per unit of
@@ -114,6 +116,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   double log_kept[SL_MAX_WAVELENGTHS][EYE_BATCH], l0[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double l1[SL_MAX_WAVELENGTHS][EYE_BATCH], source[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double radiance[SL_MAX_WAVELENGTHS][EYE_BATCH], sun[SL_MAX_WAVELENGTHS][EYE_BATCH];
+  float sky[EYE_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M at each part's middle */
   ptrdiff_t texel[2][EYE_BATCH];
   float fields[EYE_BATCH][SL_MAX_FIELDS];
   int q[EYE_BATCH]; /* pixel */
@@ -266,6 +269,11 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
 #pragma omp simd
     for (int s = 0; s < live; ++s) out[s] = sl__sun_lerp(rgb, b->sun_row[s], b->sun_frac[s], c) * b->inv_beta[s];
   }
+  for (int s = 0; s < (r->sky.radiance ? live : 0); ++s) {
+    const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE;
+    const double x[3] = {o[0] + b->mid[s] * rq[0], o[1] + b->mid[s] * rq[1], o[2] + b->mid[s] * rq[2]};
+    sl__sky_light_at(&r->sky, x, b->sky[s]);
+  }
 }
 
 /* The batch's table look-ups (eye_batch_phases, with the model of the fields the batch holds) and
@@ -283,6 +291,9 @@ static inline __attribute__((always_inline)) void eye_batch_scatter(const slicer
 #undef EYE_PHASES
   eye_batch_radiance(nwl, live, b->beta, b->inv_beta, b->len, b->inv_len, b->inv_probe, b->path_near, b->light_rate,
                      b->log_kept, b->l0, b->l1, b->source, b->opacity, b->radiance);
+  if (f->r->sky.radiance)
+    sl__sky_light_add(held_model, (int)held_model->mode, held, nwl, live, b->fields, b->inv_beta, b->opacity,
+                      b->sky, b->radiance);
 }
 
 /* The batch's light into its pixels' accumulators, front to back (under the transparency in front)

@@ -24,6 +24,11 @@ void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *ou
   out->termination_transparency = r->scene.termination_transparency;
   out->march_samples = sl__march_samples(&r->scene);
   out->any_extinction = r->any_extinction;
+  out->skylight = r->scene.skylight && r->any_extinction;
+  out->sky_ready = r->sky_built;
+  out->sky = r->sky.radiance;
+  for (int a = 0; a < 3; ++a)
+    out->sky_n[a] = r->sky.n[a], out->sky_origin[a] = r->sky.origin[a], out->sky_spacing[a] = r->sky.spacing[a];
 }
 
 int sl_renderer_sunlight_table(const sl_renderer *r, const sl_camera *cam, double *rows, double *z0, double *dz,

@@ -13,8 +13,11 @@
 #include <string.h>
 
 #include "light_volume.h"
+#include "sky_light_gather.h"
 #include "sl_sample_physics.h"
 #include "vector_math.h"
+
+_Static_assert(MARCH_BATCH == SL__SKY_BATCH, "the skylight gather's rows are a march batch");
 
 
 /* A light-volume look-up in two steps, as the fields' (sl__field_cell_at, sl__field_fetch): a
@@ -139,6 +142,7 @@ typedef struct march_batch {
   double phase[SL_MAX_WAVELENGTHS][MARCH_BATCH], sun[SL_MAX_WAVELENGTHS][MARCH_BATCH];
   double l0[SL_MAX_WAVELENGTHS][MARCH_BATCH], l1[SL_MAX_WAVELENGTHS][MARCH_BATCH];
   double radiance[SL_MAX_WAVELENGTHS][MARCH_BATCH];
+  float sky[MARCH_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M at each step's middle */
   double p_t[MARCH_POINTS], p_state[SL_MAX_WAVELENGTHS + 1][MARCH_POINTS];
   lv_cell p_cell[MARCH_POINTS];
   sl__field_cell cell[MARCH_BATCH];
@@ -225,6 +229,7 @@ static inline __attribute__((always_inline)) void march_batch_light(const sl_ren
     const double x[3] = {o[0] + b->tm[i] * d[0], o[1] + b->tm[i] * d[1], o[2] + b->tm[i] * d[2]};
     sl__sun_at(suntab, sun_lane, x, sunlight);
     for (int c = 0; c < nwl; ++c) b->sun[c][i] = sunlight[c];
+    if (r->sky.radiance) sl__sky_light_at(&r->sky, x, b->sky[i]);
   }
   for (int c = 0; c <= nwl; ++c) b->carried[c] = b->p_state[c][b->end[live - 1]];
   b->carried_step = b->step[live - 1];
@@ -235,7 +240,8 @@ static inline __attribute__((always_inline)) void march_batch_light(const sl_ren
  * holds it at every point), the slicer's closed-form gather with no extra in-segment attenuation.
  * One exponential serves the step: opacity, transparency and the gather's moments. */
 static inline __attribute__((always_inline)) void march_batch_scatter(const sl_light_model *m,
-                                                                      const sl_light_model *subsets, const int nf,
+                                                                      const sl_light_model *subsets,
+                                                                      const int skylight, const int nf,
                                                                       const int nwl, int angle_index,
                                                                       double angle_weight, double dt, march_batch *b)
 {
@@ -261,6 +267,8 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
           sl_march_step_light(b->l0[c][i], b->l1[c][i], b->m0[i], b->m1[i], b->phase[c][i], b->inv_beta[i]) *
           b->sun[c][i];
   }
+  if (skylight) sl__sky_light_add(held_model, (int)held_model->mode, held, nwl, live, b->fields, b->inv_beta, b->opacity,
+                    b->sky, b->radiance);
 }
 
 /* The batch into the ray's accumulator a, front to back; 1 once its transparency falls below
@@ -315,7 +323,7 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
     if (size < MARCH_BATCH) size *= 2;
     if (!b->live) continue;
     march_batch_light(r, nwl, f->suntab, sun_lane, o, d, t0, dt, b);
-    march_batch_scatter(&r->model, subsets, nf, nwl, angle_index, angle_weight, dt, b);
+    march_batch_scatter(&r->model, subsets, r->sky.radiance != NULL, nf, nwl, angle_index, angle_weight, dt, b);
     ended = march_batch_composite(nwl, b, depth_per_t, sc->termination_transparency, a);
   }
 }

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "lighting.h"
+#include "sky_light.h"
 #include "sl_renderer.h"
 #include "sl_vec3.h"
 #include "sun_table.h"
@@ -60,6 +61,8 @@ struct sl_renderer {
   int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;
+  sl__sky_light sky;        /* the skylight's diffuse radiance (scene.skylight), for the current sun */
+  int sky_built;            /* sky holds the current sun's (radiance NULL at night) */
   sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */

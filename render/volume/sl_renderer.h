@@ -62,6 +62,10 @@ typedef struct sl_scene {
   /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 2). Fewer is faster
    * in proportion and coarser on optically thick surfaces (docs/ACCURACY.md). */
   int march_samples;
+  /* 1: the sky dome lights the volume too (render/volume/sky_light.h: its diffuse light,
+   * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");
+   * 0: the sun alone, the paper's model. */
+  int skylight;
   /* 1: run the passes' baseline x86-64 code even where the CPU offers AVX-512 (for comparing the
    * two builds of the same loops: speed, and that the images agree); 0: the widest the CPU has. */
   int baseline_isa;
@@ -81,6 +85,7 @@ typedef struct sl_slicing {
 typedef struct sl_render_stats {
   int night;                         /* the sun is below the horizon: no sun, no sky from the model */
   double light_seconds, eye_seconds; /* summed over the frame's slices */
+  double sky_seconds;                /* building the skylight's lattice (0 when kept from the last frame) */
   int slices, light_width, light_height;
   long eye_samples, light_samples;   /* samples that touched the volume's box */
   int wide_isa;                      /* 1: the passes ran their AVX-512 copy (sl_scene.baseline_isa) */
@@ -100,6 +105,12 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, s
  * on first use when the scene asks for it. */
 int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 
+/* Builds the skylight's lattice (sl_scene.skylight) for the current sun if it is not built yet;
+ * sl_renderer_render does it on first use, a GPU pass needs it before it draws
+ * (sl_renderer_gpu_inputs.sky). *seconds (may be NULL) gets what building took, 0 when it was
+ * already built or the scene has no skylight. */
+int sl_renderer_prepare_skylight(sl_renderer *r, double *seconds, sl_error *err);
+
 /* A prepared renderer under another sun (unit vector toward it, world ENU): what depends on the
  * sun (the cached light volume) is dropped and rebuilt on next use; the extinction grids and the
  * tables are kept. What a viewer's sun change costs. */
@@ -116,6 +127,12 @@ int sl_renderer_set_march_samples(sl_renderer *r, int samples, sl_error *err);
  * already carries the aerial perspective in front of the volume, so that
  * frame = volume + transparency * background (sl_image_over). */
 int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_image *img, sl_error *err);
+
+/* Per pixel (rows from the top), the sun's transparency from where its view ray reaches optical
+ * depth 1 in the volume (its visible surface) toward the sun, by quadrature of the extinction; NaN
+ * where the ray never reaches depth 1. Classes pixels for validation (below 1e-2: a face in the
+ * cloud's own shadow, lit by the sky). out has width * height values. */
+int sl_renderer_surface_sunlight(const sl_renderer *r, const sl_camera *camera, float *out, sl_error *err);
 
 /* The box around the samples with non-zero extinction (the whole box when all are empty). */
 void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]);

@@ -27,6 +27,13 @@ typedef struct sl_renderer_gpu_inputs {
   double termination_transparency;
   int march_samples;              /* eye samples per grid cell along a ray */
   int any_extinction;
+  int skylight;                   /* the scene asks for the skylight term (render/volume/sky_light.h) */
+  /* Its lattice, once sl_renderer_prepare_skylight built it (sky_ready; sky NULL at night): per
+   * sample beta M per wavelength then beta (four floats at three wavelengths), x fastest. */
+  int sky_ready;
+  const float *sky;
+  int sky_n[3];
+  double sky_origin[3], sky_spacing[3];
 } sl_renderer_gpu_inputs;
 
 void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *out);

@@ -387,6 +387,20 @@ SL_INLINE SL_REAL sl_march_step_light(SL_REAL l0, SL_REAL l1, SL_REAL m0, SL_REA
   return (l0 * m0 + (l1 - l0) * m1) * phase * inv_beta;
 }
 
+/* The skylight a step of opacity `opacity` scatters toward the eye at wavelength c from the diffuse
+ * sky radiance `sky` there (render/volume/sky_light.h: isotropic phase function): the opacity times
+ * the fields' single-scattering albedo sum_j beta_j omega_jc / beta (inv_beta = 1 / beta) times the
+ * radiance, the integral of beta_sca e^(-beta t) sky over the step for fields and sky constant
+ * across it. */
+SL_INLINE SL_REAL sl_sky_step_light(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FIELDS), int c, SL_REAL opacity,
+                                    SL_REAL inv_beta, SL_REAL sky)
+{
+  SL_REAL scattering = 0.0;
+  SL_UNROLL
+  for (int j = 0; j < SL_NF; ++j) scattering += beta[j] * SL_ALBEDO(j, c);
+  return opacity * scattering * inv_beta * sky;
+}
+
 /* ---- The light volume's sweep (light_volume_sweep.c, shaders/volume_light_sweep.glsl) ---- */
 
 /* ln I of light that is gone, the least the sweep stores: exp(-80) is below any radiance of note. */
