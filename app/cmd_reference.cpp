@@ -315,7 +315,9 @@ void parse_render_scene(const std::string &path, Scene *s, sl_error *err, bool q
     for (int c = 0; c < 3; ++c) s->sky[c] = settings->sky[c];
   double lo[3], hi[3];
   sl_ref_medium_content_bounds(s->medium, lo, hi);
-  sl_scene_camera(settings.get(), lo, hi, &s->camera);
+  double sun[3];
+  sl_sun_direction(90.0 - s->sun_zenith, s->sun_azimuth, sun);
+  sl_scene_camera(settings.get(), &s->frame.volume, lo, hi, sun, &s->camera);
   s->have_camera = true;
   s->kind = "storm";
 }

@@ -169,7 +169,7 @@ static int render_main(int argc, char **argv)
   sl_camera cam{};
   double lo_box[3], hi_box[3];
   sl_renderer_content_bounds(r, lo_box, hi_box);
-  sl_scene_camera(&session.settings, lo_box, hi_box, &cam);
+  sl_scene_camera(&session.settings, &frame.volume, lo_box, hi_box, scene.sun_direction, &cam);
   // The scene around the storm: terrain (stops the eye rays, shadowed by the storm) and map layers.
   sl::MapLayers map_layers;
   std::unique_ptr<sl::TerrainScene> terrain;

@@ -283,6 +283,8 @@ int sl_cmd_validate(int argc, char **argv)
   o.option("roulette-depth", "N", "reference: scatterings before Russian roulette at survival 0.98 (0: the library's 16)", "0");
   o.option("width", "PX", "override the scene's image width");
   o.option("height", "PX", "override the scene's image height");
+  o.option("skylight", "on|off", "override the scene's skylight (both renderers: the reference's scattered paths "
+           "collect the sky where they leave the box)");
   o.option("block", "B", "compare means over B x B pixel blocks (the reference's noise falls by B)", "1");
   o.option("repeat", "N", "render each setting N times and keep the fastest (least disturbed) time", "3");
   o.option("interactive", "S", "frame time counted as interactive (seconds)", "0.1");
@@ -312,7 +314,7 @@ int sl_cmd_validate(int argc, char **argv)
   // The scene as render reads it (sl_settings_from_scene), at the size asked for; its storm and sun
   // as render loads and places them (sl_scene_load).
   std::vector<std::string> overrides;
-  for (const char *k : {"width", "height"})
+  for (const char *k : {"width", "height", "skylight"})
     if (o.has(k)) overrides.push_back(std::string("--") + k), overrides.push_back(o.str(k));
   std::vector<char *> override_argv;
   for (std::string &a : overrides) override_argv.push_back(&a[0]);
@@ -371,7 +373,7 @@ int sl_cmd_validate(int argc, char **argv)
   {
     double lo[3], hi[3];
     sl_renderer_content_bounds(base_renderer.get(), lo, hi);
-    sl_scene_camera(settings.get(), lo, hi, &cam);
+    sl_scene_camera(settings.get(), &built->frame.volume, lo, hi, base_scene.sun_direction, &cam);
   }
   std::vector<float> ground((size_t)cam.width * cam.height, INFINITY);
   if (sl_scene_ground_opaque(base_scene.atmosphere, &cam, ground.data())) cam.opaque_distance = ground.data();

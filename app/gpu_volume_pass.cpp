@@ -216,7 +216,7 @@ std::string GpuVolumePass::Unsupported(const sl_renderer *r)
   if (m->nwl != kWavelengths)
     return "the GPU path carries three wavelengths; this scene has " + std::to_string(m->nwl);
   if (m->nf > kMaxFields) return "more than four particle fields";
-  if (in.skylight && !in.sky_ready) return "the skylight's lattice was not built (sl_renderer_prepare_skylight)";
+  if (in.skylight && !in.sky_ready) return "the skylight's lattice was not built (sl_renderer_prepare_sky)";
   if (m->mode == SL_LIGHTING_LOW_ALBEDO) return "";
   const sl_phase_table *t0 = m->table[0][0];
   for (int j = 0; j < m->nf; ++j)
@@ -238,7 +238,7 @@ bool GpuVolumePass::Fail(const std::string &why)
 void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
 {
   model_.Release(w);
-  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_, &sky_}) release(t, w);
+  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_, &sky_, &shadow_}) release(t, w);
   for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_, &resolve_fbo_})
     if (*f) {
       if (w) (*f)->ReleaseGraphicsResources(w);
@@ -509,7 +509,34 @@ bool GpuVolumePass::Resolve(vtkOpenGLRenderWindow *win)
   p->SetUniform3f("slSkySun", sky.sun);
   p->SetUniform3f("slBeta", sky.beta_sea_level);
   p->SetUniform3f("slIrradiance", sky.sun_irradiance);
+  // The lit ground (render/volume/ground_shadow.h): its shadow map, one texel of 1 without it.
+  {
+    sl_renderer_gpu_inputs in;
+    sl_renderer_gpu_inputs_get(renderer_, &in);
+    const float one = 1.0f;
+    if (!shadow_) shadow_ = new_float_texture(win);
+    if (!(sky.ground_on ? shadow_->Create2DFromRaw(sky.shadow_n[0], sky.shadow_n[1], 1, VTK_FLOAT,
+                                                   const_cast<float *>(sky.shadow))
+                        : shadow_->Create2DFromRaw(1, 1, 1, VTK_FLOAT, const_cast<float *>(&one))))
+      return Fail("the OpenGL context cannot hold the ground's shadow map");
+    shadow_->Activate();
+    float gs[3], gk[3], o[2], h[2], n[2];
+    for (int c = 0; c < 3; ++c) gs[c] = (float)sky.ground_sun[c], gk[c] = (float)sky.ground_sky[c];
+    for (int a = 0; a < 2; ++a) {
+      o[a] = (float)(sky.shadow_origin[a] - in.origin[a]);  // relative to the lattice's first sample, as slEye
+      h[a] = sky.ground_on ? (float)sky.shadow_spacing[a] : 1.0f;
+      n[a] = sky.ground_on ? (float)sky.shadow_n[a] : 1.0f;
+    }
+    p->SetUniformi("slGroundOn", sky.ground_on);
+    p->SetUniform3f("slGroundSun", gs);
+    p->SetUniform3f("slGroundSky", gk);
+    p->SetUniformi("slShadow", shadow_->GetTextureUnit());
+    p->SetUniform2f("slShadowOrigin", o);
+    p->SetUniform2f("slShadowSpacing", h);
+    p->SetUniform2f("slShadowN", n);
+  }
   resolve_quad_->Render();
+  shadow_->Deactivate();
   deactivate({color, depth});
   glFinish();
   const auto t = std::chrono::steady_clock::now();

@@ -122,6 +122,7 @@ class GpuVolumePass : public vtkRenderPass {
   vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
   vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
   vtkTextureObject *sky_ = nullptr;     // the skylight's lattice, per sun
+  vtkTextureObject *shadow_ = nullptr;  // the ground's shadow map, per sun
   vtkOpenGLFramebufferObject *plane_fbo_ = nullptr, *eye_fbo_ = nullptr, *resolve_fbo_ = nullptr;
   vtkOpenGLQuadHelper *sweep_quad_ = nullptr, *eye_quad_ = nullptr, *resolve_quad_ = nullptr;
 };

@@ -110,7 +110,7 @@ bool RenderSession::draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_im
   sl_error err{};
   if (gpu) {
     GpuTimings gt;
-    if (sl_renderer_prepare_skylight(renderer, nullptr, &err)) {
+    if (sl_renderer_prepare_sky(renderer, nullptr, &err)) {
       *why = err.message;
       return false;
     }

@@ -140,6 +140,8 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
   out->xi = s->xi;
   out->light_volume = s->light_volume;
   out->skylight = s->skylight;
+  /* The terrain draws its own ground (app/terrain_scene); the flat one is the sky's otherwise. */
+  out->ground_albedo = s->terrain ? 0.0 : s->ground_albedo;
   /* Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md). */
   sl_sun_direction(b->sun_elevation_deg, sl_georef_grid_azimuth(&b->frame.georef, b->sun_azimuth_deg),
                    out->sun_direction);
@@ -199,8 +201,25 @@ void sl_built_scene_free(sl_built_scene *b)
   memset(b, 0, sizeof *b);
 }
 
-void sl_scene_camera(const sl_settings *s, const double lo[3], const double hi[3], sl_camera *cam)
+void sl_scene_camera(const sl_settings *s, const sl_volume *v, const double lo[3], const double hi[3],
+                     const double sun[3], sl_camera *cam)
 {
+  const int given = sl_settings_given(s, "view-azimuth") || sl_settings_given(s, "view-elevation") ||
+                    sl_settings_given(s, "camera-position") || sl_settings_given(s, "camera-target");
+  double clo[3], chi[3], core_lo[3], core_hi[3];
+  if (!given && v && sl_volume_condensate_bounds(v, SL_CHASER_TAU, SL_CHASER_BETA, clo, chi)) {
+    /* The width framed is the core's (a thin anvil may run off the sides), the height the whole
+     * storm's. */
+    if (sl_volume_condensate_bounds(v, SL_CHASER_CORE_TAU, SL_CHASER_BETA, core_lo, core_hi))
+      for (int a = 0; a < 2; ++a) clo[a] = core_lo[a], chi[a] = core_hi[a];
+    /* A storm chaser: on the ground, the sun over the left shoulder (30 degrees round from behind,
+     * so that the faces it lights show relief), looking back at the storm and a little up. */
+    const double sun_azimuth = sun[2] > 0.0 ? atan2(sun[0], sun[1]) * 180.0 / M_PI : 170.0;
+    const double ground = fmax(v->origin[2] - 0.5 * v->spacing[2], 0.0);
+    if (sl_camera_chaser(clo, chi, sun_azimuth + SL_CHASER_SUN_OFFSET_DEG, ground + SL_CHASER_EYE_M, s->fov_deg,
+                         s->width, s->height, cam))
+      return;
+  }
   sl_camera_frame(lo, hi, s->view_azimuth_deg, s->view_elevation_deg, s->fov_deg, s->width, s->height, cam);
   if (sl_settings_given(s, "camera-target")) memcpy(cam->target, s->camera_target, sizeof cam->target);
   if (sl_settings_given(s, "camera-position")) memcpy(cam->position, s->camera_position, sizeof cam->position);

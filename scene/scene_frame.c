@@ -37,7 +37,7 @@ static int frame_begin(const sl_settings *s, const sl_built_scene *b, sl_camera 
   if (!b->renderer) return sl_fail(err, SL_ERR_ARG, "the scene was built without a renderer");
   double lo[3], hi[3];
   sl_renderer_content_bounds(b->renderer, lo, hi);
-  sl_scene_camera(s, lo, hi, cam);
+  sl_scene_camera(s, &b->frame.volume, lo, hi, b->scene.sun_direction, cam);
   const size_t n = (size_t)cam->width * cam->height;
   p->opaque = malloc(n * sizeof *p->opaque);
   if (!p->opaque) return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");

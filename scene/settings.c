@@ -78,15 +78,24 @@ const sl_option sl_settings_options[] = {
      "the sky dome's light scattered by the volume too (shadowed faces lit blue, a dark base over\n"
      "a dark ground; docs/ACCURACY.md, \"Skylight\"), or the sun alone (the paper's model)",
      "on", SL_OPTION_CHOICE, 0, 0, "off|on", NULL, AT(skylight), NULL},
+    {"ground-albedo", "A",
+     "albedo of the flat ground at sea level under the storm (without --terrain), lit by the sun\n"
+     "through the storm's shadow and by the sky (land 0.15, sea 0.06; 0: black, only the air in front shines)",
+     "0.15", SL_OPTION_NUMBER, 0, 1, NULL, NULL, AT(ground_albedo), NULL},
     {"no-atmosphere", NULL, "no air: unattenuated white sunlight and the constant --sky behind the volume", NULL,
      SL_OPTION_FLAG, 0, 0, NULL, NULL, AT(no_atmosphere), NULL},
-    {"camera-position", "X,Y,Z", "camera position, metres east, north, up (default frames the cloud)", NULL,
+    {"camera-position", "X,Y,Z",
+     "camera position, metres east, north, up. Default: a storm chaser's view, 2 m above the\n"
+     "ground with the sun 30 degrees round from behind the left shoulder, looking back at the storm\n"
+     "and up so the horizon sits a quarter up the frame, as near as fits the storm's top and its\n"
+     "core's width (columns of optical depth 100); a storm too wide for that (a deck, a hurricane),\n"
+     "or --view-azimuth/--view-elevation given: the orbit camera", NULL,
      SL_OPTION_LIST, 3, 0, NULL, NULL, AT(camera_position), NULL},
     {"camera-target", "X,Y,Z", "point the camera looks at (default: the cloud's centre)", NULL, SL_OPTION_LIST, 3, 0,
      NULL, NULL, AT(camera_target), NULL},
-    {"view-azimuth", "DEG", "default camera: compass direction from the cloud to the camera", "200", SL_OPTION_NUMBER,
+    {"view-azimuth", "DEG", "orbit camera: compass direction from the cloud to the camera", "200", SL_OPTION_NUMBER,
      -360, 360, NULL, NULL, AT(view_azimuth_deg), NULL},
-    {"view-elevation", "DEG", "default camera: elevation of the camera seen from the cloud", "12", SL_OPTION_NUMBER, -90,
+    {"view-elevation", "DEG", "orbit camera: elevation of the camera seen from the cloud", "12", SL_OPTION_NUMBER, -90,
      90, NULL, NULL, AT(view_elevation_deg), NULL},
     {"fov", "DEG", "vertical field of view", "40", SL_OPTION_NUMBER, 0, 170, NULL, NULL, AT(fov_deg), NULL},
     {"threads", "N", "OpenMP threads (0 = all cores)", "0", SL_OPTION_INT, 0, 4096, NULL, NULL, AT(threads), NULL},

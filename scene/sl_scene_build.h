@@ -61,10 +61,21 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
 int sl_scene_build(const sl_settings *s, const sl_build_options *opt, sl_built_scene *b, sl_error *err);
 void sl_built_scene_free(sl_built_scene *b);
 
-/* The camera as render frames it: the content bounds lo..hi (sl_renderer_content_bounds, or the
- * reference medium's, which are defined alike) seen from view-azimuth and view-elevation at fov,
- * or camera-position and camera-target where given. */
-void sl_scene_camera(const sl_settings *s, const double lo[3], const double hi[3], sl_camera *cam);
+/* The camera as render frames it. With none of view-azimuth, view-elevation, camera-position and
+ * camera-target given: a storm chaser's view (sl_camera_chaser) of v's condensate (the columns of
+ * vertical optical depth SL_CHASER_TAU or more, sl_volume_condensate_bounds) from SL_CHASER_EYE_M
+ * above the grid's ground (or sea level), from the compass direction of the sun (unit vector sun,
+ * the volume's axes) turned SL_CHASER_SUN_OFFSET_DEG; at night, without such columns, or for a
+ * storm too wide to frame from the ground (a deck, a hurricane), the orbit below. Otherwise: the content bounds lo..hi (sl_renderer_content_bounds, or the reference
+ * medium's, which are defined alike) seen from view-azimuth and view-elevation at fov, with
+ * camera-position and camera-target where given. */
+#define SL_CHASER_TAU 1.0
+#define SL_CHASER_CORE_TAU 100.0
+#define SL_CHASER_BETA 1e-4
+#define SL_CHASER_EYE_M 2.0
+#define SL_CHASER_SUN_OFFSET_DEG 30.0
+void sl_scene_camera(const sl_settings *s, const sl_volume *v, const double lo[3], const double hi[3],
+                     const double sun[3], sl_camera *cam);
 /* Where each of cam's pixel rays meets the round ground of the scene's air (its ground_radius, set
  * with curvature drop), lowering opaque (width x height, distances along the rays; the terrain's or
  * INFINITY) to it, so that the volume draws nothing behind the horizon; returns 0 and leaves

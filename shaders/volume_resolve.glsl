@@ -19,6 +19,11 @@ uniform vec3 slSkyRadiance;    // the background without air
 // The sky as seen from this camera (sl_sky_view_init) and the air's constants.
 uniform float slEyeAltitude, slAirmass, slInvScaleHeight, slGroundRadius;
 uniform vec3 slVertical, slSkySun, slBeta, slIrradiance;
+// The lit ground (render/volume/ground_shadow.h): radiance slGroundSun * shadow + slGroundSky.
+uniform int slGroundOn;
+uniform vec3 slGroundSun, slGroundSky;
+uniform sampler2D slShadow;    // the storm's transparency toward the sun on the ground, cell centres
+uniform vec2 slShadowOrigin, slShadowSpacing, slShadowN;
 in vec2 texCoord; // unused (pixels come from gl_FragCoord); read once so VTK's quad keeps the attribute
 //VTK::Output::Dec
 
@@ -33,6 +38,20 @@ void slSkySegment(vec3 d, float t_near, float t_far, out vec3 radiance, out vec3
     radiance[c] = sl_sky_segment_radiance(slBeta[c], slIrradiance[c], phase, slInvScaleHeight, mu, near, slAirmass, g);
     transparency[c] = sl_sky_segment_transparency(slBeta[c], g);
   }
+}
+
+// sl__ground_shadow_at: bilinear between the map's cell centres, 1 off the map.
+float slShadowAt(vec2 x)
+{
+  vec2 u = (x - slShadowOrigin) / slShadowSpacing;
+  ivec2 n = ivec2(slShadowN + 0.5);
+  if (!(u.x >= 0.0 && u.y >= 0.0 && u.x <= float(n.x - 1) && u.y <= float(n.y - 1))) return 1.0;
+  ivec2 i = min(ivec2(u), max(n - 2, ivec2(0)));
+  ivec2 i1 = min(i + 1, n - 1);
+  vec2 f = u - vec2(i);
+  float s00 = texelFetch(slShadow, i, 0).r, s10 = texelFetch(slShadow, ivec2(i1.x, i.y), 0).r;
+  float s01 = texelFetch(slShadow, ivec2(i.x, i1.y), 0).r, s11 = texelFetch(slShadow, i1, 0).r;
+  return (1.0 - f.y) * ((1.0 - f.x) * s00 + f.x * s10) + f.y * ((1.0 - f.x) * s01 + f.x * s11);
 }
 
 vec3 slToLinearRgb(vec3 spectrum)
@@ -71,8 +90,13 @@ void main()
     if (sl_sky_in_sun_disk_at(toSun.x, toSun.y, toSun.z, slSkySun.z) != 0)
       for (int c = 0; c < 3; ++c)
         L[c] += sl_sky_sun_disk_light(slIrradiance[c], slBeta[c], slInvScaleHeight, slEyeAltitude, slAirmass);
+    float tGround = sl_sky_ground_distance(slEyeAltitude, dot(d, slVertical), slGroundRadius);
+    if (slGroundOn != 0 && !isinf(tGround)) {
+      float S = slShadowAt((slEye + tGround * d).xy);
+      L += skyT * (slGroundSun * S + slGroundSky);
+    }
     sky = slToLinearRgb(L);
-    groundDepth = sl_sky_ground_distance(slEyeAltitude, dot(d, slVertical), slGroundRadius) * along;
+    groundDepth = tGround * along;
   }
   gl_FragData[1] = vec4(T, depth, groundDepth, 0.0);
   gl_FragData[2] = vec4(sky, 1.0);

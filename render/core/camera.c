@@ -49,6 +49,39 @@ void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg,
   cam->opaque_distance = NULL; /* nothing opaque in front of the volume unless the caller says so */
 }
 
+int sl_camera_chaser(const double lo[3], const double hi[3], double azimuth_deg, double eye_z, double fov_deg,
+                     int width, int height, sl_camera *cam)
+{
+  double dir[3]; /* from the box toward the camera, horizontal */
+  sl_sun_direction(0.0, azimuth_deg, dir);
+  const double tan_v = tan(0.5 * fov_deg * M_PI / 180.0), tan_h = tan_v * width / height;
+  const double pitch = atan(0.5 * tan_v), half_v = 0.5 * fov_deg * M_PI / 180.0;
+  const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  /* The box's extent along the view (depth, from its centre to its nearest face) and across it. */
+  const double ex = 0.5 * (hi[0] - lo[0]), ey = 0.5 * (hi[1] - lo[1]);
+  const double depth = fabs(dir[0]) * ex + fabs(dir[1]) * ey, across = fabs(dir[1]) * ex + fabs(dir[0]) * ey;
+  /* Nearest-face distance that fits the top (at the near face) and the width (there too). */
+  const double rise = hi[2] - eye_z;
+  const double fit_top = rise > 0.0 ? rise / tan(pitch + 0.95 * half_v) : 0.0;
+  const double fit_width = across / (0.95 * tan_h);
+  if (fit_width > 3.0 * fit_top) return 0;
+  double near = fit_top > fit_width ? fit_top : fit_width;
+  if (near < 0.05 * across + 1.0) near = 0.05 * across + 1.0;
+  const double distance = near + depth;
+  cam->position[0] = c[0] + distance * dir[0];
+  cam->position[1] = c[1] + distance * dir[1];
+  cam->position[2] = eye_z;
+  /* Look back along the azimuth, up by the pitch. */
+  for (int a = 0; a < 2; ++a) cam->target[a] = cam->position[a] - distance * cos(pitch) * dir[a];
+  cam->target[2] = eye_z + distance * sin(pitch);
+  cam->up[0] = 0.0, cam->up[1] = 0.0, cam->up[2] = 1.0;
+  cam->fov_deg = fov_deg;
+  cam->width = width;
+  cam->height = height;
+  cam->opaque_distance = NULL;
+  return 1;
+}
+
 int sl_camera_ray(const sl_camera *cam, int px, int py, double d[3])
 {
   double fwd[3], right[3], up[3];

@@ -30,6 +30,16 @@ void sl_sun_direction(double elevation_deg, double azimuth_deg, double out[3]);
  * enough that the box's bounding sphere fills the view. */
 void sl_camera_frame(const double lo[3], const double hi[3], double azimuth_deg, double elevation_deg,
                      double fov_deg, int width, int height, sl_camera *cam);
+/* A storm chaser's camera: at height `eye_z` on the side of the box (horizontal compass direction
+ * `azimuth_deg` from its centre to the camera), looking along that azimuth back at the box and up
+ * by a pitch that puts a flat horizon a quarter of the image above its bottom edge
+ * (atan(tan(fov / 2) / 2), 10.3 degrees at 40), and as near as lets the whole box fit the frame: its
+ * top edge below the image's top and its width within the image's, each with a 5 % margin, seen
+ * from the box's nearest face. Returns 0 (cam untouched) for a box too wide for a ground view: one
+ * that the width puts more than three times as far as the top does (a deck, a hurricane), whose
+ * storm would sit as a line on the horizon or beyond it. */
+int sl_camera_chaser(const double lo[3], const double hi[3], double azimuth_deg, double eye_z, double fov_deg,
+                      int width, int height, sl_camera *cam);
 /* The camera's orthonormal basis: forward (toward the target), right (forward x up) and up
  * (made orthogonal); returns 1 when the position equals the target or up is parallel to the view. */
 int sl_camera_basis(const sl_camera *cam, double fwd[3], double right[3], double up[3]);

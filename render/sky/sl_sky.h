@@ -153,6 +153,14 @@ int sl_sky_view_init(sl_sky_view *view, const sl_atmosphere *atm, const double e
 void sl_sky_view_segment(const sl_sky_view *view, const double dir[3], double t_near, double t_far,
                          double *radiance, double *transparency);
 
+/* The light on a horizontal ground at the atmosphere's origin (sea level under the frame's tangent
+ * point): the clear sky's irradiance, the integral of its radiance times the cosine over the upper
+ * hemisphere (16-point Gauss in the cosine, 64 azimuths), and the sun's, its attenuated irradiance
+ * (eq. 12) times the cosine of its zenith angle, per wavelength. *night when the sun is down (both
+ * 0). A Lambertian ground of albedo a sends a (sky + sun) / pi (ground_light.c). */
+int sl_sky_ground_irradiance(const sl_atmosphere *atm, const double sun[3], double *sky, double *sun_on_ground,
+                             int *night, sl_error *err);
+
 /* Section 4.2.4: the direct sun (its angular diameter, SL_SUN_ANGULAR_DIAMETER_DEG, and the
  * per-ray pieces are in sl_sky_sample.h). */
 /* Returns 1 when dir lies within the sun's disk (and the sun is up), else 0. */

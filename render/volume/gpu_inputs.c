@@ -109,5 +109,13 @@ int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_rende
   }
   out->inv_scale_height = 1.0 / atm->scale_height;
   out->ground_radius = atm->ground_radius;
+  const sl__ground *g = &r->ground;
+  out->ground_on = g->on;
+  if (g->on) {
+    for (int c = 0; c < r->model.nwl; ++c) out->ground_sun[c] = g->sun[c], out->ground_sky[c] = g->sky[c];
+    out->shadow = g->shadow;
+    for (int a = 0; a < 2; ++a)
+      out->shadow_n[a] = g->n[a], out->shadow_origin[a] = g->origin[a], out->shadow_spacing[a] = g->spacing[a];
+  }
   return SL_OK;
 }

@@ -9,6 +9,7 @@
 #include "sl_cie.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -146,19 +147,22 @@ void sl_renderer_destroy(sl_renderer *r)
   free(r->fields); /* sl__huge_alloc's memory is posix_memalign's: free releases it */
   free(r->light_volume);
   sl__sky_light_free(&r->sky);
+  sl__ground_free(&r->ground);
   free(r->empty_radius);
   free(r->texel_spans.u_in), free(r->texel_spans.u_out), free(r->texel_spans.first), free(r->texel_spans.last);
   free(r->texel_spans.u_entry);
   free(r);
 }
 
-int sl_renderer_prepare_skylight(sl_renderer *r, double *seconds, sl_error *err)
+int sl_renderer_prepare_sky(sl_renderer *r, double *seconds, sl_error *err)
 {
   if (seconds) *seconds = 0.0;
-  if (!r->scene.skylight || !r->any_extinction || r->sky_built) return SL_OK;
-  if (sl__sky_light_build(r, err)) return err->code;
+  if (r->sky_built) return SL_OK;
+  const double t0 = omp_get_wtime();
+  if (r->scene.skylight && r->any_extinction && sl__sky_light_build(r, err)) return err->code;
+  if (sl__ground_build(r, err)) return err->code;
   r->sky_built = 1;
-  if (seconds) *seconds = r->sky.seconds;
+  if (seconds) *seconds = omp_get_wtime() - t0;
   return SL_OK;
 }
 
@@ -171,6 +175,7 @@ int sl_renderer_set_sun(sl_renderer *r, const double sun_direction[3], sl_error 
   free(r->light_volume);
   r->light_volume = NULL;
   sl__sky_light_free(&r->sky);
+  sl__ground_free(&r->ground);
   r->sky_built = 0;
   return SL_OK;
 }
@@ -201,7 +206,7 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *cam, sl_image *img, sl_r
     return sl_fail(err, SL_ERR_ARG, "render: camera position equals the target, or up is parallel to the view");
   /* The skylight's lattice depends on the sun, not on the camera: built by the first frame under a sun. */
   double sky_seconds = 0.0;
-  if (sl_renderer_prepare_skylight(r, &sky_seconds, err)) return err->code;
+  if (sl_renderer_prepare_sky(r, &sky_seconds, err)) return err->code;
   const int rc = r->scene.light_volume && r->any_extinction ? sl__render_with_light_volume(r, cam, img, stats, err)
                                                             : sl__render_slicer(r, cam, fwd, right, up, img, stats, err);
   if (!rc && stats) stats->sky_seconds = sky_seconds;

@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "ground_shadow.h"
 #include "lighting.h"
 #include "sky_light.h"
 #include "sl_renderer.h"
@@ -62,7 +63,8 @@ struct sl_renderer {
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;
   sl__sky_light sky;        /* the skylight's diffuse radiance (scene.skylight), for the current sun */
-  int sky_built;            /* sky holds the current sun's (radiance NULL at night) */
+  sl__ground ground;        /* the ground's shadow map and light (scene.ground_albedo), for the current sun */
+  int sky_built;            /* sky and ground hold the current sun's (sl_renderer_prepare_sky) */
   sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
   double lo[3], hi[3];  /* the volume's box */

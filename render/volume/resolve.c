@@ -47,15 +47,21 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image 
       double d[3], sun_disk[SL_MAX_WAVELENGTHS];
       sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(i % img->width),
                 (int)(i / img->width), d);
-      sl_sky_view_segment(&view, d, 0.0, INFINITY, L, NULL);
+      double T[SL_MAX_WAVELENGTHS];
+      sl_sky_view_segment(&view, d, 0.0, INFINITY, L, T);
       if (sl_sky_sun_disk_radiance(sc->atmosphere, cam->position, d, sc->sun_direction, sun_disk))
         for (int c = 0; c < nwl; ++c) L[c] += sun_disk[c];
-      sl_cie_apply(r->to_rgb, nwl, L, rgb);
       /* Where the ray meets the ground (plane or sphere), as distance along the view axis. */
       double up_eye[3];
       const double h = sl_sky_altitude(sc->atmosphere, cam->position, up_eye);
       const double t = sl_sky_ground_distance(h, sl_dot3(d, up_eye), sc->atmosphere->ground_radius);
       ground_depth = t * sl_dot3(d, fwd);
+      /* The lit ground behind the air in front of it: sun times the storm's shadow, plus sky. */
+      if (r->ground.on && isfinite(t)) {
+        const double S = sl__ground_shadow_at(&r->ground, cam->position[0] + t * d[0], cam->position[1] + t * d[1]);
+        for (int c = 0; c < nwl; ++c) L[c] += T[c] * (r->ground.sun[c] * S + r->ground.sky[c]);
+      }
+      sl_cie_apply(r->to_rgb, nwl, L, rgb);
     } else {
       for (int c = 0; c < SL_CHANNELS; ++c) rgb[c] = sc->sky_radiance[c];
     }

@@ -30,7 +30,7 @@
 #define SKY_ALTITUDES 16
 /* The lattice's largest sample count: the grid's own when it has fewer, else every f-th sample
  * (the diffuse light varies over the transport mean free path, several cells in a storm). */
-#define SKY_LATTICE_MAX 262144
+#define SKY_LATTICE_MAX 100000
 /* Two-stream diffuse transmittance of a slab of transport optical depth tau: 1 / (1 + 3/4 tau). */
 #define SKY_TWO_STREAM 0.75
 
@@ -177,6 +177,18 @@ static void lattice_transport_extinction(const sl_renderer *r, const sl__sky_lig
         for (int a = 0; a < 3; ++a) {
           lo[a] = c[a] - h < 0 ? 0 : c[a] - h;
           hi[a] = c[a] + h > n[a] - 1 ? n[a] - 1 : c[a] + h;
+        }
+        /* The footprint spans at most two 8^3 bricks per axis: empty when its corners' bricks are. */
+        int occupied = 0;
+        for (int corner = 0; corner < 8 && !occupied; ++corner) {
+          const int i0[3] = {corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1], corner & 4 ? hi[2] : lo[2]};
+          int cell[3];
+          for (int a = 0; a < 3; ++a) cell[a] = i0[a] > n[a] - 2 ? (n[a] > 1 ? n[a] - 2 : 0) : i0[a];
+          occupied = sl__brick_occupied(r, cell);
+        }
+        if (!occupied) {
+          out[((size_t)K * s->n[1] + J) * s->n[0] + I] = 0.0f;
+          continue;
         }
         double sum = 0.0;
         long count = 0;

@@ -66,6 +66,10 @@ typedef struct sl_scene {
    * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");
    * 0: the sun alone, the paper's model. */
   int skylight;
+  /* Albedo of a flat Lambertian ground at sea level (the plane z = 0, or the sphere), lit by the
+   * sun through the storm's shadow and by the clear sky, where the background's rays meet it; 0: a
+   * black ground (only the air in front of it shines). */
+  double ground_albedo;
   /* 1: run the passes' baseline x86-64 code even where the CPU offers AVX-512 (for comparing the
    * two builds of the same loops: speed, and that the images agree); 0: the widest the CPU has. */
   int baseline_isa;
@@ -85,7 +89,7 @@ typedef struct sl_slicing {
 typedef struct sl_render_stats {
   int night;                         /* the sun is below the horizon: no sun, no sky from the model */
   double light_seconds, eye_seconds; /* summed over the frame's slices */
-  double sky_seconds;                /* building the skylight's lattice (0 when kept from the last frame) */
+  double sky_seconds;                /* the skylight's lattice and the ground's shadow (0: kept from the last frame) */
   int slices, light_width, light_height;
   long eye_samples, light_samples;   /* samples that touched the volume's box */
   int wide_isa;                      /* 1: the passes ran their AVX-512 copy (sl_scene.baseline_isa) */
@@ -105,11 +109,12 @@ int sl_renderer_render(sl_renderer *r, const sl_camera *camera, sl_image *img, s
  * on first use when the scene asks for it. */
 int sl_renderer_build_light_volume(sl_renderer *r, sl_error *err);
 
-/* Builds the skylight's lattice (sl_scene.skylight) for the current sun if it is not built yet;
- * sl_renderer_render does it on first use, a GPU pass needs it before it draws
- * (sl_renderer_gpu_inputs.sky). *seconds (may be NULL) gets what building took, 0 when it was
- * already built or the scene has no skylight. */
-int sl_renderer_prepare_skylight(sl_renderer *r, double *seconds, sl_error *err);
+/* Builds what the sky and the sun light besides the volume's own light, for the current sun, if
+ * not built yet: the skylight's lattice (sl_scene.skylight) and the ground's shadow map
+ * (sl_scene.ground_albedo). sl_renderer_render does it on first use; sl_renderer_background
+ * draws a lit ground only after it, and a GPU pass needs it before it draws. *seconds (may be
+ * NULL) gets what building took, 0 when it was already built. */
+int sl_renderer_prepare_sky(sl_renderer *r, double *seconds, sl_error *err);
 
 /* A prepared renderer under another sun (unit vector toward it, world ENU): what depends on the
  * sun (the cached light volume) is dropped and rebuilt on next use; the extinction grids and the

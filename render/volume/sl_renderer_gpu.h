@@ -28,7 +28,7 @@ typedef struct sl_renderer_gpu_inputs {
   int march_samples;              /* eye samples per grid cell along a ray */
   int any_extinction;
   int skylight;                   /* the scene asks for the skylight term (render/volume/sky_light.h) */
-  /* Its lattice, once sl_renderer_prepare_skylight built it (sky_ready; sky NULL at night): per
+  /* Its lattice, once sl_renderer_prepare_sky built it (sky_ready; sky NULL at night): per
    * sample beta M per wavelength then beta (four floats at three wavelengths), x fastest. */
   int sky_ready;
   const float *sky;
@@ -68,6 +68,14 @@ typedef struct sl_renderer_gpu_sky {
   double to_rgb[3 * SL_MAX_WAVELENGTHS]; /* row c: the weights of linear sRGB channel c */
   double sky_radiance[3];
   double mid_distance;             /* dot(forward, content centre - eye) */
+  /* The lit ground (sl_scene.ground_albedo; after sl_renderer_prepare_sky): its radiance is
+   * ground_sun * shadow + ground_sky, the shadow map's cell (i, j) centred at
+   * shadow_origin + (i, j) shadow_spacing (world x, y), 1 off the map. */
+  int ground_on;
+  double ground_sun[SL_MAX_WAVELENGTHS], ground_sky[SL_MAX_WAVELENGTHS];
+  const float *shadow;
+  int shadow_n[2];
+  double shadow_origin[2], shadow_spacing[2];
 } sl_renderer_gpu_sky;
 
 int sl_renderer_gpu_sky_get(const sl_renderer *r, const sl_camera *cam, sl_renderer_gpu_sky *out, sl_error *err);

@@ -1,0 +1,46 @@
+/* Where a storm's condensate is (sl_volume.h): the box a default camera frames. Wisps of ice or a
+ * few droplets spread over a whole domain would make the renderer's content box (every non-empty
+ * sample) the domain; the columns a viewer sees as cloud are those of vertical optical depth about
+ * 1 or more. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "sl_particles.h"
+#include "sl_volume.h"
+
+int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_min, double lo[3], double hi[3])
+{
+  double sigma[SL_VOLUME_SLOTS];
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k)
+    sigma[k] = v->eta[k] ? sl_particle_properties(sl_volume_field_type(v, k))->sigma_ext_m2 : 0.0;
+  int found = 0, box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
+  for (int j = 0; j < v->ny; ++j)
+    for (int i = 0; i < v->nx; ++i) {
+      double tau = 0.0;
+      int k_lo = -1, k_hi = -1;
+      for (int k = 0; k < v->nz; ++k) {
+        const size_t q = sl_volume_index(v, i, j, k);
+        double beta = 0.0;
+        for (int s = 0; s < SL_VOLUME_SLOTS; ++s)
+          if (v->eta[s] && v->eta[s][q] > 0.0f) beta += v->eta[s][q] * sigma[s];
+        tau += beta * v->spacing[2];
+        if (beta >= beta_min) {
+          if (k_lo < 0) k_lo = k;
+          k_hi = k;
+        }
+      }
+      if (!(tau >= tau_min) || k_lo < 0) continue;
+      const int at[3][2] = {{i, i}, {j, j}, {k_lo, k_hi}};
+      for (int a = 0; a < 3; ++a) {
+        if (!found || at[a][0] < box_lo[a]) box_lo[a] = at[a][0];
+        if (!found || at[a][1] > box_hi[a]) box_hi[a] = at[a][1];
+      }
+      found = 1;
+    }
+  if (!found) return 0;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = v->origin[a] + (box_lo[a] - 0.5) * v->spacing[a];
+    hi[a] = v->origin[a] + (box_hi[a] + 0.5) * v->spacing[a];
+  }
+  return 1;
+}
