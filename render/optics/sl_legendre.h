@@ -7,6 +7,8 @@
 #ifndef SL_LEGENDRE_H
 #define SL_LEGENDRE_H
 
+#include "sl_quadrature.h" /* sl_gauss_legendre */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -18,9 +20,6 @@ double sl_hg_phase(double g, double mu);
 
 /* D(mu) from moments chi[0..n_moments-1] (Clenshaw summation). */
 double sl_legendre_series(const double *chi, int n_moments, double mu);
-
-/* Gauss–Legendre nodes and weights on [-1, 1] (Newton iteration on P_n, n >= 1). */
-void sl_gauss_legendre(int n, double *nodes, double *weights);
 
 /* Moments chi[0..n_moments-1] of a function given at n_nodes Gauss–Legendre nodes:
  * chi_l = 2 pi sum_i w_i D(x_i) P_l(x_i). Exact when D is a polynomial of degree

@@ -59,14 +59,9 @@ int sl__ground_build(sl_renderer *r, sl_error *err)
   for (int j = 0; j < g->n[1]; ++j)
     for (int i = 0; i < g->n[0]; ++i) {
       const double p[3] = {g->origin[0] + i * g->spacing[0], g->origin[1] + j * g->spacing[1], 0.0};
-      double t0, t1, tau = 0.0;
-      if (r->any_extinction && sl_ray_box(r->clo, r->chi, p, sun, &t0, &t1) && t1 > 0.0) {
-        for (double t = fmax(t0, 0.0); t < t1; t += step) {
-          const double len = fmin(step, t1 - t), tm = t + 0.5 * len;
-          const double x[3] = {p[0] + tm * sun[0], p[1] + tm * sun[1], p[2] + tm * sun[2]};
-          tau += len * sl_grid_sample(&r->beta_view, x);
-        }
-      }
+      double t0, t1, tau = 0.0, unused;
+      if (r->any_extinction && sl_ray_box(r->clo, r->chi, p, sun, &t0, &t1) && t1 > 0.0)
+        tau = sl__optical_depth(r, p, sun, fmax(t0, 0.0), t1, step, INFINITY, &unused);
       g->shadow[(size_t)j * g->n[0] + i] = (float)exp(-tau);
     }
   g->on = 1;

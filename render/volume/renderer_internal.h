@@ -354,6 +354,12 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
 void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
                        const float *a, sl_image *img, size_t q);
 
+/* Optical depth of the ray o + t d through the total extinction over [t0, t1] by the midpoint rule
+ * in steps of `step`, stopping where it reaches `stop` (*t_stop there; +inf when it never does;
+ * surface_sunlight.c). */
+double sl__optical_depth(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
+                         double step, double stop, double *t_stop);
+
 /* The light-volume march's samples per grid cell (sl_scene.march_samples, 0 meaning 2). */
 static inline int sl__march_samples(const sl_scene *sc) { return sc->march_samples > 0 ? sc->march_samples : 2; }
 

@@ -145,9 +145,8 @@ static int lattice_init(const sl_renderer *r, sl__sky_light *s, int first[3])
   for (int a = 0; a < 3; ++a) {
     s->n[a] = (last[a] - first[a] + f - 1) / f + 1;
     s->spacing[a] = f * v->spacing[a];
-    s->inv_spacing[a] = 1.0 / s->spacing[a];
     s->origin[a] = v->origin[a] + first[a] * v->spacing[a];
-    s->view.n[a] = s->n[a], s->view.origin[a] = s->origin[a], s->view.inv_spacing[a] = s->inv_spacing[a];
+    s->view.n[a] = s->n[a], s->view.origin[a] = s->origin[a], s->view.inv_spacing[a] = 1.0 / s->spacing[a];
     s->view.lo[a] = s->origin[a], s->view.hi[a] = s->origin[a] + (s->n[a] - 1) * s->spacing[a];
   }
   s->view.data = NULL;
@@ -202,11 +201,30 @@ static void lattice_transport_extinction(const sl_renderer *r, const sl__sky_lig
       }
 }
 
-/* Each direction's cell (its solid angle) and the sky's mean radiance over it at altitude z. */
-static int dome_cells(const sl_renderer *r, const double dirs[][3], double z, double omega[SKY_DIRECTIONS],
+#define SKY_FINE (SKY_DIRECTIONS * SKY_CELL_SAMPLES)
+
+/* The dome's cells: each fine direction's nearest sky direction (cell[i]) and each cell's solid
+ * angle. */
+static void dome_partition(const double dirs[][3], int cell[SKY_FINE], double omega[SKY_DIRECTIONS])
+{
+  int count[SKY_DIRECTIONS] = {0};
+  for (int i = 0; i < SKY_FINE; ++i) {
+    double d[3];
+    fibonacci_direction(i, SKY_FINE, d);
+    int best = 0;
+    for (int k = 1; k < SKY_DIRECTIONS; ++k)
+      if (sl_dot3(d, dirs[k]) > sl_dot3(d, dirs[best])) best = k;
+    cell[i] = best;
+    count[best]++;
+  }
+  for (int k = 0; k < SKY_DIRECTIONS; ++k) omega[k] = 4.0 * M_PI * count[k] / SKY_FINE;
+}
+
+/* The sky's mean radiance over each cell at altitude z. */
+static int dome_cells(const sl_renderer *r, const int cell[SKY_FINE], double z,
                       double radiance[SKY_DIRECTIONS][SL_MAX_WAVELENGTHS], int *night, sl_error *err)
 {
-  const int nwl = r->model.nwl, fine = SKY_DIRECTIONS * SKY_CELL_SAMPLES;
+  const int nwl = r->model.nwl;
   sl_sky_view view;
   const sl_sky_view *vp = NULL;
   *night = 0;
@@ -221,20 +239,15 @@ static int dome_cells(const sl_renderer *r, const double dirs[][3], double z, do
   }
   int count[SKY_DIRECTIONS] = {0};
   memset(radiance, 0, sizeof(double) * SKY_DIRECTIONS * SL_MAX_WAVELENGTHS);
-  for (int i = 0; i < fine; ++i) {
+  for (int i = 0; i < SKY_FINE; ++i) {
     double d[3], rad[SL_MAX_WAVELENGTHS];
-    fibonacci_direction(i, fine, d);
-    int best = 0;
-    for (int k = 1; k < SKY_DIRECTIONS; ++k)
-      if (sl_dot3(d, dirs[k]) > sl_dot3(d, dirs[best])) best = k;
+    fibonacci_direction(i, SKY_FINE, d);
     sky_radiance(r, vp, d, rad);
-    for (int c = 0; c < nwl; ++c) radiance[best][c] += rad[c];
-    count[best]++;
+    for (int c = 0; c < nwl; ++c) radiance[cell[i]][c] += rad[c];
+    count[cell[i]]++;
   }
-  for (int k = 0; k < SKY_DIRECTIONS; ++k) {
-    omega[k] = 4.0 * M_PI * count[k] / fine;
+  for (int k = 0; k < SKY_DIRECTIONS; ++k)
     for (int c = 0; c < nwl; ++c) radiance[k][c] = count[k] ? radiance[k][c] / count[k] : 0.0;
-  }
   return SL_OK;
 }
 
@@ -242,18 +255,19 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
 {
   sl__sky_light *s = &r->sky;
   sl__sky_light_free(s);
-  const double t0 = omp_get_wtime();
   const int nwl = r->model.nwl;
-  s->nwl = nwl, s->stride = (nwl + 4) / 4 * 4, s->directions = SKY_DIRECTIONS;
+  s->nwl = nwl, s->stride = (nwl + 4) / 4 * 4;
   int first[3];
   const int f = lattice_init(r, s, first);
   const size_t count = (size_t)s->n[0] * s->n[1] * s->n[2];
   double dirs[SKY_DIRECTIONS][3];
   for (int k = 0; k < SKY_DIRECTIONS; ++k) fibonacci_direction(k, SKY_DIRECTIONS, dirs[k]);
+  int cell[SKY_FINE];
+  double omega[SKY_DIRECTIONS];
+  dome_partition((const double(*)[3])dirs, cell, omega);
   /* The dome seen from SKY_ALTITUDES heights over the grid's box, from its bottom to its top. */
   const int nalt = SKY_ALTITUDES;
   double(*cells)[SKY_DIRECTIONS][SL_MAX_WAVELENGTHS] = malloc(sizeof *cells * nalt);
-  double omega[SKY_DIRECTIONS];
   float *beta_tr = malloc(count * sizeof(float));
   float *tau = malloc(count * sizeof(float) * SKY_CHUNK);
   s->radiance = sl__huge_alloc(count * s->stride * sizeof(float));
@@ -266,7 +280,7 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
   for (int a = 0; a < nalt; ++a) {
     const double z = bottom + (top - bottom) * a / (nalt - 1);
     int night = 0;
-    if (dome_cells(r, (const double(*)[3])dirs, z, omega, cells[a], &night, err)) {
+    if (dome_cells(r, cell, z, cells[a], &night, err)) {
       free(cells), free(beta_tr), free(tau);
       sl__sky_light_free(s);
       return err->code;
@@ -274,7 +288,6 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
     if (night) { /* no sun, no sky: the term is off */
       free(cells), free(beta_tr), free(tau);
       sl__sky_light_free(s);
-      s->seconds = omp_get_wtime() - t0;
       return SL_OK;
     }
   }
@@ -322,6 +335,5 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
     out[nwl] = beta_tr[q];
   }
   free(cells), free(beta_tr), free(tau);
-  s->seconds = omp_get_wtime() - t0;
   return SL_OK;
 }

@@ -26,15 +26,12 @@ typedef struct sl__sky_light {
   int n[3];            /* lattice samples along each axis */
   double origin[3];    /* sample (0, 0, 0) */
   double spacing[3];   /* between samples (a multiple of the grid's) */
-  double inv_spacing[3];
   sl_grid_view view;   /* the same lattice as the renderer's look-ups take it (no data) */
   int nwl, stride;     /* wavelengths; floats per sample (nwl + 1 rounded up to 4) */
   /* Per sample, x fastest: beta M per wavelength, then beta (the lattice's transport extinction),
    * so that a look-up interpolates M weighted by the extinction (sky_light_gather.h); NULL: no
    * skylight. */
   float *radiance;
-  int directions;      /* sky directions the dome was split into */
-  double seconds;      /* what building it took */
 } sl__sky_light;
 
 /* Builds r->sky for r's sun, atmosphere and extinction (replaces what it held). Without the sun

@@ -1,18 +1,17 @@
-/* Where a pixel sees the volume and how much sunlight reaches there (sl_renderer.h): the point of
- * its view ray at optical depth 1 (the first mean free path, where most of what the eye receives
- * from a thick cloud is scattered) and the transparency from there toward the sun, both by direct
- * quadrature of the total extinction. It classes pixels for validation (a face in the cloud's own
- * shadow is lit by the sky alone); the passes never read it. */
+/* Optical depth by direct quadrature of the total extinction (sl__optical_depth), and where a pixel
+ * sees the volume and how much sunlight reaches there (sl_renderer.h): the point of its view ray at
+ * optical depth 1 (the first mean free path, where most of what the eye receives from a thick
+ * cloud is scattered) and the transparency from there toward the sun. The latter classes pixels
+ * for validation (a face in the cloud's own shadow is lit by the sky alone); the passes never
+ * read it. The ground's shadow map (ground_shadow.c) takes the former toward the sun. */
 #include <math.h>
 #include <stdlib.h>
 
 #include "renderer_internal.h"
 #include "vector_math.h"
 
-/* Optical depth of the ray o + t d over [t0, t1] by the midpoint rule in steps of `step`, stopping
- * where it reaches `stop` (*t_stop there; +inf when it never does). */
-static double optical_depth(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
-                            double step, double stop, double *t_stop)
+double sl__optical_depth(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
+                         double step, double stop, double *t_stop)
 {
   double tau = 0.0;
   *t_stop = INFINITY;
@@ -49,12 +48,12 @@ int sl_renderer_surface_sunlight(const sl_renderer *r, const sl_camera *cam, flo
     if (!r->any_extinction || !sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) || t1 <= 0.0) continue;
     if (t0 < 0.0) t0 = 0.0;
     if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
-    optical_depth(r, o, d, t0, t1, step, 1.0, &t_surface);
+    sl__optical_depth(r, o, d, t0, t1, step, 1.0, &t_surface);
     if (!isfinite(t_surface)) continue;
     const double x[3] = {o[0] + t_surface * d[0], o[1] + t_surface * d[1], o[2] + t_surface * d[2]};
     double s0, s1, unused;
     if (!sl_ray_box(r->clo, r->chi, x, sun, &s0, &s1)) s1 = 0.0;
-    out[q] = (float)exp(-optical_depth(r, x, sun, 0.0, fmax(s1, 0.0), step, INFINITY, &unused));
+    out[q] = (float)exp(-sl__optical_depth(r, x, sun, 0.0, fmax(s1, 0.0), step, INFINITY, &unused));
   }
   return SL_OK;
 }
