@@ -1,6 +1,6 @@
 #!/bin/bash
 # Each bundled scene at its default slices against the same code at 2048 slices: relative RMSE on
-# linear HDR (docs/ACCURACY.md, "Slices"). About 25 s on 2 cores.
+# linear HDR (docs/ACCURACY.md, "Slices"). About a minute on 2 cores.
 #
 #   scripts/slice_convergence.sh [WORKDIR]
 set -euo pipefail
@@ -19,6 +19,6 @@ run default datasets/cumulonimbus.nc
 run katrina ../shared/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc
 run sunrise datasets/cumulonimbus.nc --sun-azimuth 90 --sun-elevation 2 --view-azimuth 180 --view-elevation 4
 run reg128 datasets/cumulonimbus.nc --width 128 --height 128 --slices 128
-for s in fig5_rainbow fig4_glory fig11_dawn fig9_storm_sky fig6_halo fig13_low_albedo; do
+for s in fig5_rainbow fig4_glory fig11_dawn fig9_storm_sky fig6_halo fig13_low_albedo supercell; do
   run "$s" --scene "datasets/scenes/$s.json"
 done
