@@ -17,19 +17,31 @@
 #define EYE_BATCH 32
 _Static_assert(EYE_BATCH == SL__SKY_BATCH, "the skylight gather's rows are an eye batch");
 
-/* The parts an eye sample's segment is taken in, each with the fields at its own middle: one
- * where the segment is optically thin, up to EYE_PARTS_MAX where it is thick (one per unit of
- * optical depth at the segment's middle). A thick segment's light comes from its first mean
- * free path, and one extinction for the whole segment puts that at the slab's front plane
- * wherever the cloud's surface lies within the slab. Against 2048 slices this halves the error
- * of several bundled scenes at their default slices for a few per cent of the eye pass
- * (docs/ACCURACY.md, "Slices"). */
-#define EYE_PART_DEPTH 1.0
-#define EYE_PARTS_MAX 4
-static inline int eye_parts(double depth)
+/* The parts an eye sample's segment is taken in: one where the segment is optically thin (below
+ * EYE_THIN at its middle), else parts whose bounds lie at optical depths 1/8, 1/4, 1/2 and 1 from
+ * where the medium starts in the segment, then the rest, found on a profile of the total
+ * extinction at EYE_PROFILE equal steps; each part has its profile's mean extinction, in the mix
+ * of fields at its middle. A thick segment's light comes from its first mean free path; parts
+ * fixed in length put the cloud's surface at a different place in its part in every slab, and
+ * the error that left drew bands along the slices on thick surfaces. Parts fixed in optical depth
+ * follow the surface instead, wherever the slab's planes cut it (tests/volume/test_stripes). */
+#define EYE_THIN 0.0625
+#define EYE_PART_DEPTH 0.125
+#define EYE_PARTS_MAX 5
+#define EYE_PROFILE 8
+#define EYE_CLEAR 1e-4
+/* The optical depth of a part's light path within its slab, at its own extinction, above which
+ * the path's own medium is integrated (eye_batch_light). */
+#define EYE_PATH_DEPTH 0.05
+
+/* Whether pixel q's ray, front to back, is already so deep in the medium (its transparency below
+ * EYE_DEEP) that what lies behind adds less than that to its light: a thick segment there is
+ * taken as one part at its middle's fields, with its part's own extinction along its light path,
+ * as thin ones are. */
+#define EYE_DEEP 1e-3
+static inline int eye_deep(const slicer_frame *f, const int nwl, const int q)
 {
-  const double parts = ceil(depth * (1.0 / EYE_PART_DEPTH));
-  return parts <= 1.0 ? 1 : parts >= EYE_PARTS_MAX ? EYE_PARTS_MAX : (int)parts;
+  return !f->back_to_front && f->acc[(size_t)q * (nwl + 2) + nwl] < EYE_DEEP;
 }
 
 /* The table look-ups of a batch of eye samples, in one loop over the samples that vectorises
@@ -128,7 +140,8 @@ typedef struct __attribute__((aligned(64))) eye_batch {
 /* The batch's parts from the tile's samples si.. (cells, pixels sq, middles smid, lengths slen of
  * cnt): per sample its fields and parts (scalar: a sample's parts vary), until the batch has no
  * room for another sample's parts; returns the next sample. */
-static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_frame *f, const int nf, eye_batch *b,
+static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_frame *f, const int nf, const int nwl,
+                                                                 eye_batch *b,
                                                                  const sl__field_cell *cells, const int *sq,
                                                                  const double *smid, const double *slen, int si,
                                                                  const int cnt)
@@ -143,24 +156,64 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     double beta_mid = 0.0;
     for (int j = 0; j < nf; ++j) beta_mid += v[j];
     if (!(beta_mid > 0.0)) continue;
-    const int parts = eye_parts(beta_mid * slen[si]);
-    if (parts == 1) {
+    if (beta_mid * slen[si] < EYE_THIN || eye_deep(f, nwl, sq[si])) {
       for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
       b->q[live] = sq[si], b->mid[live] = smid[si], b->len[live] = slen[si], b->beta[live] = beta_mid;
       live++;
       continue;
     }
     const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
+    const double t_near = smid[si] - 0.5 * slen[si], step = slen[si] / EYE_PROFILE;
+    /* The total extinction at each profile step's middle, and the optical depth from the segment's
+     * start at each profile point (no end point is read: a segment may end on the box's face,
+     * where the medium stops). */
+    double step_beta[EYE_PROFILE], tau[EYE_PROFILE + 1];
+    tau[0] = 0.0;
+    for (int k = 0; k < EYE_PROFILE; ++k) {
+      const double t = t_near + (k + 0.5) * step;
+      const double x[3] = {o[0] + t * rq[0], o[1] + t * rq[1], o[2] + t * rq[2]};
+      step_beta[k] = sl__sample_total_extinction(r, x);
+      tau[k + 1] = tau[k] + step * step_beta[k];
+    }
+    const double depth = tau[EYE_PROFILE];
+    if (!(depth > 0.0)) continue;
+    /* The parts' bounds in optical depth (tau_at) and along the segment (t_at; tau is piecewise
+     * linear between the profile's points). The first part starts where the medium does: a clear
+     * stretch before it (optical depth below EYE_CLEAR) belongs to no part. */
+    double t_at[EYE_PARTS_MAX + 1], tau_at[EYE_PARTS_MAX + 1];
+    int parts = 0, k = 0;
+    while (k < EYE_PROFILE - 1 && tau[k + 1] < EYE_CLEAR) k++;
+    t_at[0] = t_near + k * step, tau_at[0] = 0.0;
+    for (double bound = EYE_PART_DEPTH; tau_at[parts] < depth; bound *= 2.0) {
+      const double want = parts == EYE_PARTS_MAX - 1 || bound > depth ? depth : bound;
+      while (k < EYE_PROFILE - 1 && tau[k + 1] < want) k++;
+      const double span = tau[k + 1] - tau[k];
+      const double frac = span > 0.0 ? fmin(fmax((want - tau[k]) / span, 0.0), 1.0) : 1.0;
+      parts++;
+      t_at[parts] = t_near + (k + frac) * step, tau_at[parts] = want;
+    }
+    t_at[parts] = t_near + slen[si]; /* the last part takes the segment's clear end too */
     for (int p = 0; p < parts; ++p) {
       /* The parts in the order of compositing: nearest first, or farthest first back to front. */
       const int part = back_to_front ? parts - 1 - p : p;
-      const double len = slen[si] / parts, mid = smid[si] + (part + 0.5 - 0.5 * parts) * len;
-      const double x[3] = {o[0] + mid * rq[0], o[1] + mid * rq[1], o[2] + mid * rq[2]};
-      float *beta_j = b->fields[live];
-      sl__sample_fields_n(r, nf, x, beta_j);
+      const double len = t_at[part + 1] - t_at[part], mid = 0.5 * (t_at[part] + t_at[part + 1]);
+      if (!(len > 0.0 && tau_at[part + 1] > tau_at[part])) continue;
+      /* The part's fields: their mix at the profile step that holds the middle of the part's
+       * optical depth (a point inside the medium, where the part's middle may lie in clear air),
+       * scaled to the part's mean extinction on the profile. */
+      const double half = 0.5 * (tau_at[part] + tau_at[part + 1]);
+      int k_mix = 0;
+      while (k_mix < EYE_PROFILE - 1 && !(tau[k_mix + 1] >= half && step_beta[k_mix] > 0.0)) k_mix++;
+      const double t_mix = t_near + (k_mix + 0.5) * step;
+      const double x[3] = {o[0] + t_mix * rq[0], o[1] + t_mix * rq[1], o[2] + t_mix * rq[2]};
+      float *fields = b->fields[live];
+      sl__sample_fields_n(r, nf, x, fields);
       double beta = 0.0;
-      for (int j = 0; j < nf; ++j) beta += beta_j[j];
+      for (int j = 0; j < nf; ++j) beta += fields[j];
       if (!(beta > 0.0)) continue;
+      const double mean = (tau_at[part + 1] - tau_at[part]) / len, scale = mean / beta;
+      for (int j = 0; j < nf; ++j) fields[j] = (float)(fields[j] * scale);
+      beta = mean;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;
       live++;
     }
@@ -261,6 +314,41 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
       for (int c = 0; c < nwl; ++c) (end ? b->l1 : b->l0)[c][s] = value[c];
       (end ? b->n_far : b->n)[s] = value[nwl];
     }
+  /* The light's path from the slab's first plane to a part crosses the medium between them, not
+   * the part's own: at a surface the part lies deep in the cloud while the plane is in clear air,
+   * and the part's extinction along the whole path put its light (eq. 24) and its scattering
+   * count (eq. 21) as far inside as the plane lay from it, darker and more isotropic the further
+   * the plane, once per slab. Where that matters (an optical depth above EYE_PATH_DEPTH at the
+   * part's own extinction), each end's path takes the length that has the optical depth of the
+   * path's own medium (sl__segment_optical_depth) at the part's extinction. The parts of one
+   * segment lie next to each other in the batch and share their ends, so each end is integrated
+   * once. */
+  int held_q = -1;
+  double held_t[2] = {0.0, 0.0}, held_depth[2] = {0.0, 0.0};
+  for (int s = 0; s < live; ++s) {
+    const double path_near = b->path_near[s], path_far = path_near + b->light_rate[s] * b->len[s];
+    if (!(b->beta[s] * sl__max(path_near, path_far) > EYE_PATH_DEPTH) || eye_deep(f, nwl, b->q[s])) continue;
+    const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE;
+    double depth[2], te[2];
+    for (int end = 0; end < 2; ++end) {
+      te[end] = b->mid[s] + (end ? 0.5 : -0.5) * b->len[s];
+      const double tol = 1e-9 * (fabs(te[end]) + 1.0), path = end ? path_far : path_near;
+      if (b->q[s] == held_q && fabs(te[end] - held_t[1 - end]) <= tol) {
+        depth[end] = held_depth[1 - end];
+        continue;
+      }
+      const double x[3] = {o[0] + te[end] * rq[0], o[1] + te[end] * rq[1], o[2] + te[end] * rq[2]};
+      const double p[3] = {x[0] - path * prop[0], x[1] - path * prop[1], x[2] - path * prop[2]};
+      depth[end] = path > 0.0 ? sl__segment_optical_depth(r, p, x) : 0.0;
+    }
+    held_q = b->q[s];
+    for (int end = 0; end < 2; ++end) held_t[end] = te[end], held_depth[end] = depth[end];
+    const double near = depth[0] * b->inv_beta[s], far = depth[1] * b->inv_beta[s];
+    b->path_near[s] = near, b->light_rate[s] = (far - near) * b->inv_len[s];
+    b->path_mid[s] = 0.5 * (near + far);
+    b->probe[s] = sl__max(b->path_mid[s], 1e-3 * b->inv_beta[s]);
+    b->inv_probe[s] = 1.0 / b->probe[s];
+  }
 #pragma omp simd
   for (int s = 0; s < live; ++s) b->n[s] = 0.5 * (b->n[s] + b->n_far[s]);
   for (int c = 0; c < nwl; ++c) {

@@ -89,12 +89,16 @@ typedef struct sl__box_exit {
   int axis_used[3];
 } sl__box_exit;
 
+/* An axis along which dir is below SL__BOX_EXIT_PARALLEL leaves by the other axes: a sun straight
+ * down has components of 6e-17 in x or y, and a point a rounding error outside such a face (a
+ * segment ending on the box's face) would otherwise be "outside" and get no path at all. */
+#define SL__BOX_EXIT_PARALLEL 1e-9
 static inline void sl__box_exit_init(sl__box_exit *b, const double lo[3], const double hi[3], const double dir[3])
 {
   for (int i = 0; i < 3; ++i) {
-    b->axis_used[i] = dir[i] != 0.0;
+    b->axis_used[i] = fabs(dir[i]) > SL__BOX_EXIT_PARALLEL;
     b->face[i] = dir[i] > 0.0 ? hi[i] : lo[i];
-    b->inv_dir[i] = dir[i] != 0.0 ? 1.0 / dir[i] : 0.0;
+    b->inv_dir[i] = b->axis_used[i] ? 1.0 / dir[i] : 0.0;
   }
 }
 
@@ -308,6 +312,93 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   for (int j = 0; j < nf; ++j) out[j] = v[j];
   return 1;
 }
+
+/* The total extinction at x (sl__sample_fields_n summed). */
+static inline __attribute__((always_inline)) double sl__sample_extinction(const sl_renderer *r, const int nf,
+                                                                          const double x[3])
+{
+  float v[SL_MAX_FIELDS];
+  sl__sample_fields_n(r, nf, x, v);
+  double beta = 0.0;
+  for (int j = 0; j < nf; ++j) beta += v[j];
+  return beta;
+}
+
+/* The total extinction at x, trilinear in r->beta (the sum of the fields, as sl__sample_extinction
+ * gives it, read from one array instead of nf): 0 outside the box or in an empty brick. */
+static inline __attribute__((always_inline)) double sl__sample_total_extinction(const sl_renderer *r,
+                                                                                const double x[3])
+{
+  const sl_grid_view *g = &r->beta_view;
+  if (!sl__in_lattice_box(g, x)) return 0.0;
+  int i0[3];
+  double f[3];
+  sl__lattice_cell(g, x, i0, f);
+  if (!sl__brick_occupied(r, i0)) return 0.0;
+  const size_t sx = g->n[0] > 1 ? 1 : 0, sy = g->n[1] > 1 ? (size_t)g->n[0] : 0;
+  const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] : 0;
+  const float *c = r->beta + ((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0];
+  const double c00 = c[0] + f[0] * (c[sx] - c[0]), c10 = c[sy] + f[0] * (c[sy + sx] - c[sy]);
+  const double c01 = c[sz] + f[0] * (c[sz + sx] - c[sz]);
+  const double c11 = c[sz + sy] + f[0] * (c[sz + sy + sx] - c[sz + sy]);
+  const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
+  return c0 + f[2] * (c1 - c0);
+}
+
+/* Pieces a short segment's optical depth is summed in at most (sl__segment_optical_depth). */
+#define SL__SEGMENT_PIECES 8
+/* The optical depth of the segment a -> b (a few cells at most): between the lattice's node planes
+ * the trilinear field is a cubic along a line, which the two-point Gauss-Legendre rule integrates
+ * exactly, so the segment is cut where it crosses them and each piece is taken by that rule (which
+ * reads no end point: a segment ending on the box's face, where the medium stops, is not read
+ * there). Exact where the segment crosses fewer than SL__SEGMENT_PIECES pieces; past that, equal
+ * pieces. A cloud's surface where its density ramps up from zero within a cell is then integrated
+ * wherever it lies along the segment, as a single midpoint is not. */
+static inline double sl__segment_optical_depth(const sl_renderer *r, const double a_in[3], const double b_in[3])
+{
+  const sl_grid_view *g = &r->beta_view;
+  /* Both ends lie in the box up to a rounding error (an eye sample and its light path's start
+   * toward the sun), so the segment does: each end is clamped into it. Where the sun runs along a
+   * face and the segment lies in it, the rounding would otherwise put the whole segment in or out. */
+  double a[3], b[3];
+  for (int ax = 0; ax < 3; ++ax) {
+    a[ax] = fmin(fmax(a_in[ax], g->lo[ax]), g->hi[ax]);
+    b[ax] = fmin(fmax(b_in[ax], g->lo[ax]), g->hi[ax]);
+  }
+  double cut[3 * SL__SEGMENT_PIECES + 2];
+  int n = 0;
+  cut[n++] = 0.0;
+  for (int ax = 0; ax < 3; ++ax) {
+    const double ua = (a[ax] - g->origin[ax]) * g->inv_spacing[ax], ub = (b[ax] - g->origin[ax]) * g->inv_spacing[ax];
+    if (g->n[ax] < 2 || ua == ub) continue;
+    const double lo = fmin(ua, ub), hi = fmax(ua, ub);
+    for (double k = floor(lo) + 1.0; k < hi && n < 3 * SL__SEGMENT_PIECES; k += 1.0) cut[n++] = (k - ua) / (ub - ua);
+  }
+  if (n > SL__SEGMENT_PIECES) {
+    n = SL__SEGMENT_PIECES;
+    for (int i = 0; i < n; ++i) cut[i] = (double)i / n;
+  }
+  /* Sorted by insertion (a few values). */
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && cut[j] < cut[j - 1]; --j) {
+      const double t = cut[j];
+      cut[j] = cut[j - 1], cut[j - 1] = t;
+    }
+  cut[n] = 1.0;
+  const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+  const double node = 0.5 / sqrt(3.0); /* the Gauss points at the piece's middle -+ node x its length */
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double l0 = cut[i], l1 = cut[i + 1];
+    for (int k = 0; k < 2; ++k) {
+      const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
+      const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
+      sum += 0.5 * (l1 - l0) * sl__sample_total_extinction(r, x);
+    }
+  }
+  return sum * len;
+}
+
 /* The fields that a batch of samples holds (a slicer batch lies in one tile of one slice, a march
  * batch along a few cells of one ray: in a storm mostly one or two of the four, cloud and rain
  * low, ice and snow high), packed to the front of each sample's array with *model set to the

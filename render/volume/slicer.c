@@ -212,7 +212,7 @@ static inline __attribute__((always_inline)) void eye_pass_tile(const slicer_fra
   const int cnt = eye_tile_samples(f, nf, k, sk, tx0, ty0, sq, smid, slen, cells, &tile_last, eye_samples);
   const double s_start = sk - 0.5 * f->ds;
   for (int si = 0; si < cnt;) {
-    si = eye_batch_parts(f, nf, b, cells, sq, smid, slen, si, cnt);
+    si = eye_batch_parts(f, nf, nwl, b, cells, sq, smid, slen, si, cnt);
     eye_batch_geometry(f, L, sun_lane, s_start, b);
     eye_batch_light(f, nf, nwl, L, light_di, light_dj, s_start, b);
     eye_batch_scatter(f, nf, nwl, b);
