@@ -111,28 +111,22 @@ def test_close_frees_and_rebuilds(datasets):
 def test_two_threads_render_at_once(datasets):
     a = stormlight.Scene(datasets / "cumulus.nc", **SMALL).build()
     b = stormlight.Scene(datasets / "cumulonimbus.nc", **SMALL).build()
-    a.render(threads=1), b.render(threads=1)  # warm
-    t0 = time.perf_counter()
     alone = [a.render(threads=1), b.render(threads=1)]
-    serial = time.perf_counter() - t0
     results = [None, None]
 
     def draw(i, scene):
         results[i] = scene.render(threads=1)
 
     workers = [threading.Thread(target=draw, args=(i, s)) for i, s in enumerate((a, b))]
-    t0 = time.perf_counter()
     for w in workers:
         w.start()
     for w in workers:
         w.join()
-    together = time.perf_counter() - t0
     for r, s in zip(results, alone):
         assert np.array_equal(r.rgba, s.rgba) and np.array_equal(r.depth, s.depth)
-    if os.cpu_count() >= 2:
-        assert together < serial, f"two threads took {together:.3f} s, one after the other {serial:.3f} s"
     # The GIL is released while a render runs: this thread keeps running Python meanwhile, with no
-    # pause as long as the render (which a held GIL would impose on it).
+    # pause as long as the render (which a held GIL would impose on it). That, not a race of wall
+    # times (which another process on the second core decides), is what lets renders overlap.
     big = stormlight.Scene(datasets / "cumulonimbus.nc", width=200, height=150, sun_elevation=30,
                            sun_azimuth=200).build()
     t0 = time.perf_counter()
