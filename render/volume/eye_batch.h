@@ -21,7 +21,7 @@ _Static_assert(EYE_BATCH == SL__SKY_BATCH, "the skylight gather's rows are an ey
  * EYE_THIN at its middle), else parts whose bounds lie at optical depths 1/8, 1/4, 1/2 and 1 from
  * where the medium starts in the segment, then the rest, found on a profile of the total
  * extinction at EYE_PROFILE equal steps; each part has its profile's mean extinction, in the mix
- * of fields at its middle. A thick segment's light comes from its first mean free path; parts
+ * of fields of the profile step that holds its optical depth's middle. A thick segment's light comes from its first mean free path; parts
  * fixed in length put the cloud's surface at a different place in its part in every slab, and
  * the error that left drew bands along the slices on thick surfaces. Parts fixed in optical depth
  * follow the surface instead, wherever the slab's planes cut it (tests/volume/test_stripes). */
@@ -172,7 +172,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     for (int k = 0; k < EYE_PROFILE; ++k) {
       const double t = t_near + (k + 0.5) * step;
       const double x[3] = {o[0] + t * rq[0], o[1] + t * rq[1], o[2] + t * rq[2]};
-      step_beta[k] = sl__sample_total_extinction(r, x);
+      step_beta[k] = sl_grid_sample(&r->beta_view, x); /* r->beta, the fields' total */
       tau[k + 1] = tau[k] + step * step_beta[k];
     }
     const double depth = tau[EYE_PROFILE];

@@ -313,38 +313,6 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   return 1;
 }
 
-/* The total extinction at x (sl__sample_fields_n summed). */
-static inline __attribute__((always_inline)) double sl__sample_extinction(const sl_renderer *r, const int nf,
-                                                                          const double x[3])
-{
-  float v[SL_MAX_FIELDS];
-  sl__sample_fields_n(r, nf, x, v);
-  double beta = 0.0;
-  for (int j = 0; j < nf; ++j) beta += v[j];
-  return beta;
-}
-
-/* The total extinction at x, trilinear in r->beta (the sum of the fields, as sl__sample_extinction
- * gives it, read from one array instead of nf): 0 outside the box or in an empty brick. */
-static inline __attribute__((always_inline)) double sl__sample_total_extinction(const sl_renderer *r,
-                                                                                const double x[3])
-{
-  const sl_grid_view *g = &r->beta_view;
-  if (!sl__in_lattice_box(g, x)) return 0.0;
-  int i0[3];
-  double f[3];
-  sl__lattice_cell(g, x, i0, f);
-  if (!sl__brick_occupied(r, i0)) return 0.0;
-  const size_t sx = g->n[0] > 1 ? 1 : 0, sy = g->n[1] > 1 ? (size_t)g->n[0] : 0;
-  const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] : 0;
-  const float *c = r->beta + ((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0];
-  const double c00 = c[0] + f[0] * (c[sx] - c[0]), c10 = c[sy] + f[0] * (c[sy + sx] - c[sy]);
-  const double c01 = c[sz] + f[0] * (c[sz + sx] - c[sz]);
-  const double c11 = c[sz + sy] + f[0] * (c[sz + sy + sx] - c[sz + sy]);
-  const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
-  return c0 + f[2] * (c1 - c0);
-}
-
 /* Pieces a short segment's optical depth is summed in at most (sl__segment_optical_depth). */
 #define SL__SEGMENT_PIECES 8
 /* The optical depth of the segment a -> b (a few cells at most): between the lattice's node planes
@@ -393,7 +361,7 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const doubl
     for (int k = 0; k < 2; ++k) {
       const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
       const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
-      sum += 0.5 * (l1 - l0) * sl__sample_total_extinction(r, x);
+      sum += 0.5 * (l1 - l0) * sl_grid_sample(g, x); /* r->beta, the fields' total */
     }
   }
   return sum * len;
