@@ -68,8 +68,8 @@ struct Setting {
   std::string name, family;
   int slices = 0, light_resolution = 0, max_order = 0, march_samples = 0;
   sl_lighting lighting = SL_LIGHTING_MULTIPLE;
-  double xi = 0.05;
-  bool spectral = false, light_volume = false, skylight = true;
+  double xi = 0;
+  bool spectral = false, light_volume = false, skylight = true, diffuse_sunlight = true;
 };
 
 struct Row {
@@ -130,10 +130,16 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
   };
   add("scene", "scene's settings", [](Setting &) {});
   add("skylight", base.skylight ? "sun only (no skylight)" : "skylight", [](Setting &s) { s.skylight = !s.skylight; });
+  add("diffuse sunlight", base.diffuse_sunlight ? "no diffuse sunlight" : "diffuse sunlight",
+      [](Setting &s) { s.diffuse_sunlight = !s.diffuse_sunlight; });
+  // The paper's model: the light buffer alone, with eq. 26's xi standing in for what it drops.
+  if (base.diffuse_sunlight)
+    add("diffuse sunlight", "no diffuse sunlight, xi 0.05", [](Setting &s) { s.diffuse_sunlight = false, s.xi = 0.05; });
   if (quick) {
     add("slices", "slices 64", [](Setting &s) { s.slices = 64; });
     add("lighting", "eq. 25", [](Setting &s) { s.lighting = SL_LIGHTING_MULTIPLE_EQ25; });
-    add("xi", "xi 0", [](Setting &s) { s.xi = 0; });
+    const double other_xi = base.xi != 0 ? 0.0 : 0.05;
+    add("xi", "xi " + fmt("%g", other_xi), [other_xi](Setting &s) { s.xi = other_xi; });
     return v;
   }
   for (int n : {32, 64, 128, 512}) add("slices", "slices " + std::to_string(n), [n](Setting &s) { s.slices = n; });
@@ -333,6 +339,7 @@ int sl_cmd_validate(int argc, char **argv)
   base.spectral = settings->spectral;
   base.light_volume = settings->light_volume, base.march_samples = settings->march_samples;
   base.skylight = settings->skylight;
+  base.diffuse_sunlight = settings->diffuse_sunlight;
   // Air and particle tables per wavelength set (and per highest order), built once; tables come
   // from the on-disk cache after the first run, so they are not part of any frame's time.
   sl_atmosphere air[2];
@@ -357,7 +364,7 @@ int sl_cmd_validate(int argc, char **argv)
     std::unique_ptr<sl_settings> v(new sl_settings(*settings));
     v->lighting = s.lighting, v->xi = s.xi, v->slices = s.slices, v->light_resolution = s.light_resolution;
     v->light_volume = s.light_volume, v->march_samples = s.march_samples, v->spectral = s.spectral;
-    v->skylight = s.skylight;
+    v->skylight = s.skylight, v->diffuse_sunlight = s.diffuse_sunlight;
     sl_scene_fill(v.get(), built.get(), with_air ? &air[s.spectral] : nullptr, optics, sc);
     return true;
   };

@@ -140,6 +140,7 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
   out->xi = s->xi;
   out->light_volume = s->light_volume;
   out->skylight = s->skylight;
+  out->diffuse_sunlight = s->diffuse_sunlight;
   /* The terrain draws its own ground (app/terrain_scene); the flat one is the sky's otherwise. */
   out->ground_albedo = s->terrain ? 0.0 : s->ground_albedo;
   /* Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md). */

@@ -53,8 +53,9 @@ const sl_option sl_settings_options[] = {
      "multiple", SL_OPTION_CHOICE, 0, 0, "multiple|eq25|low-albedo", lighting_values, AT(lighting), NULL},
     {"xi", "XI",
      "eq. 26's back-scattering term added to Ams, 1/sr: light that higher orders return and the\n"
-     "forward-only light buffer discards (0 for thin media)",
-     "0.05", SL_OPTION_NUMBER, 0, 1e3, NULL, NULL, AT(xi), NULL},
+     "forward-only light buffer discards; with --diffuse-sunlight on (the default) that light is\n"
+     "modelled, so 0; the paper's model (--diffuse-sunlight off) wants about 0.05",
+     "0", SL_OPTION_NUMBER, 0, 1e3, NULL, NULL, AT(xi), NULL},
     {"wavelengths", "SET", "rgb (650, 515, 440 nm as red, green, blue) or spectral (16 from 380 to 720 nm via CIE)",
      "rgb", SL_OPTION_CHOICE, 0, 0, "rgb|spectral", NULL, AT(spectral), NULL},
     {"fog-visibility-km", "V",
@@ -78,6 +79,11 @@ const sl_option sl_settings_options[] = {
      "the sky dome's light scattered by the volume too (shadowed faces lit blue, a dark base over\n"
      "a dark ground; docs/ACCURACY.md, \"Skylight\"), or the sun alone (the paper's model)",
      "on", SL_OPTION_CHOICE, 0, 0, "off|on", NULL, AT(skylight), NULL},
+    {"diffuse-sunlight", "on|off",
+     "sunlight scattered through the cloud out of the light buffer's forward cone lights the volume\n"
+     "too (faces in the storm's own shadow, the inside of thick cloud; docs/ACCURACY.md, \"Diffuse\n"
+     "sunlight\"), or the light buffer alone (the paper's model, which --xi then stands in for)",
+     "on", SL_OPTION_CHOICE, 0, 0, "off|on", NULL, AT(diffuse_sunlight), NULL},
     {"ground-albedo", "A",
      "albedo of the flat ground at sea level under the storm (without --terrain), lit by the sun\n"
      "through the storm's shadow and by the sky (land 0.15, sea 0.06; 0: black, only the air in front shines)",

@@ -37,6 +37,7 @@ typedef struct sl_settings {
   double fog_depth_km;
   int light_volume;
   int skylight;                      /* the sky dome lights the volume (sl_scene.skylight) */
+  int diffuse_sunlight;              /* sunlight diffused through the cloud (sl_scene.diffuse_sunlight) */
   double ground_albedo;              /* the flat ground under the storm (sl_scene.ground_albedo) */
   int march_samples;
   int no_atmosphere;

@@ -24,7 +24,7 @@ void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *ou
   out->termination_transparency = r->scene.termination_transparency;
   out->march_samples = sl__march_samples(&r->scene);
   out->any_extinction = r->any_extinction;
-  out->skylight = r->scene.skylight && r->any_extinction;
+  out->skylight = sl__diffuse_lattice(&r->scene) && r->any_extinction;
   out->sky_ready = r->sky_built;
   out->sky = r->sky.radiance;
   for (int a = 0; a < 3; ++a)

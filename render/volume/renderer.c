@@ -159,7 +159,7 @@ int sl_renderer_prepare_sky(sl_renderer *r, double *seconds, sl_error *err)
   if (seconds) *seconds = 0.0;
   if (r->sky_built) return SL_OK;
   const double t0 = omp_get_wtime();
-  if (r->scene.skylight && r->any_extinction && sl__sky_light_build(r, err)) return err->code;
+  if (sl__diffuse_lattice(&r->scene) && r->any_extinction && sl__sky_light_build(r, err)) return err->code;
   if (sl__ground_build(r, err)) return err->code;
   r->sky_built = 1;
   if (seconds) *seconds = omp_get_wtime() - t0;

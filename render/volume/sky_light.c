@@ -21,6 +21,7 @@
 
 #include "sl_sample_physics.h"
 #include "sl_sweep_geometry.h"
+#include "sun_table.h"
 #include "vector_math.h"
 
 #define SKY_DIRECTIONS 24
@@ -33,6 +34,15 @@
 #define SKY_LATTICE_MAX 100000
 /* Two-stream diffuse transmittance of a slab of transport optical depth tau: 1 / (1 + 3/4 tau). */
 #define SKY_TWO_STREAM 0.75
+/* The look-up's weight floor against the lattice's largest transport extinction. */
+#define SKY_WEIGHT_FLOOR 1e-6
+
+double sl__diffuse_sunlight_share(double tau_sun, double dome_weight)
+{
+  const double total = 1.0 / (1.0 + SKY_TWO_STREAM * tau_sun) / dome_weight;
+  const double beam = exp(-tau_sun) / (4.0 * M_PI);
+  return total > beam ? total - beam : 0.0;
+}
 
 void sl__sky_light_free(sl__sky_light *s)
 {
@@ -243,7 +253,7 @@ static int dome_cells(const sl_renderer *r, const int cell[SKY_FINE], double z,
     double d[3], rad[SL_MAX_WAVELENGTHS];
     fibonacci_direction(i, SKY_FINE, d);
     sky_radiance(r, vp, d, rad);
-    for (int c = 0; c < nwl; ++c) radiance[cell[i]][c] += rad[c];
+    for (int c = 0; c < nwl; ++c) radiance[cell[i]][c] += r->scene.skylight ? rad[c] : 0.0;
     count[cell[i]]++;
   }
   for (int k = 0; k < SKY_DIRECTIONS; ++k)
@@ -326,14 +336,46 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
           for (int c = 0; c <= nwl; ++c) out[c] += (float)sum[c];
         }
   }
-  /* Premultiplied by the lattice's extinction, which then takes slot nwl (sky_light_gather.h). */
+  /* The diffuse sunlight: the transport depth toward the sun, and the sunlight at each height. */
+  const int diffuse_sun = sl__diffuse_sunlight_on(&r->scene);
+  sun_table *suntab = diffuse_sun ? malloc(sizeof *suntab) : NULL;
+  if (diffuse_sun) {
+    sl_sky_view view = {0};
+    if (!suntab || (r->scene.atmosphere &&
+                    sl_sky_view_init(&view, r->scene.atmosphere, r->content_center, r->scene.sun_direction, err))) {
+      free(cells), free(beta_tr), free(tau), free(suntab);
+      sl__sky_light_free(s);
+      return suntab ? err->code : sl_fail(err, SL_ERR_NOMEM, "skylight: out of memory");
+    }
+    sl__sun_table_init(suntab, &r->scene, &view, r->clo, r->chi);
+    sweep_direction(s, beta_tr, r->scene.sun_direction, tau);
+  }
+  /* M, premultiplied by the lattice's extinction, which then takes slot nwl (sky_light_gather.h).
+   * The weight has a floor a millionth of the largest extinction, so that a look-up among clear
+   * samples only still takes their M (the diffuse light beside the cloud, for a part whose middle
+   * lies there) and a grid whose clear air holds a trace of condensate gives the same frame. */
+  float most = 0.0f;
+  for (size_t q = 0; q < count; ++q) most = beta_tr[q] > most ? beta_tr[q] : most;
+  const double floor_weight = SKY_WEIGHT_FLOOR * most;
 #pragma omp parallel for schedule(static)
   for (size_t q = 0; q < count; ++q) {
     float *out = acc + q * stride;
-    const float scale = beta_tr[q] / out[nwl];
-    for (int c = 0; c < nwl; ++c) out[c] *= scale;
-    out[nwl] = beta_tr[q];
+    double sun[SL_MAX_WAVELENGTHS] = {0};
+    if (diffuse_sun) {
+      const size_t I = q % s->n[0], J = q / s->n[0] % s->n[1], K = q / ((size_t)s->n[0] * s->n[1]);
+      const double x[3] = {s->origin[0] + I * s->spacing[0], s->origin[1] + J * s->spacing[1],
+                           s->origin[2] + K * s->spacing[2]};
+      const sl__sun_lane lane = sl__sun_table_lane(suntab);
+      double e[SL_MAX_WAVELENGTHS];
+      sl__sun_at(suntab, &lane, x, e);
+      const double share = sl__diffuse_sunlight_share(tau[q], out[nwl]);
+      for (int c = 0; c < nwl; ++c) sun[c] = e[c] * share;
+    }
+    const double inv_weight = 1.0 / out[nwl];
+    const double weight = beta_tr[q] + floor_weight;
+    for (int c = 0; c < nwl; ++c) out[c] = (float)((out[c] * inv_weight + sun[c]) * weight);
+    out[nwl] = (float)weight;
   }
-  free(cells), free(beta_tr), free(tau);
+  free(cells), free(beta_tr), free(tau), free(suntab);
   return SL_OK;
 }

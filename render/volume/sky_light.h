@@ -13,14 +13,35 @@
  * uniform sky is invisible (M = L everywhere); through a thick slab lit from one side M falls
  * linearly with depth, as the two-stream solution. Not modelled: the phase function's anisotropy
  * for skylight (the forward glow of a thin cloud against a bright horizon), absorption between
- * scatterings beyond the sample's own albedo. */
+ * scatterings beyond the sample's own albedo.
+ *
+ * Diffuse sunlight (sl_scene.diffuse_sunlight) rides on the same lattice and closure. The sun is
+ * one more source on the dome, of irradiance E (the sunlight at the sample's height through the
+ * air): the whole sunlight's mean radiance at x is E w_sun / sum_k Omega_k w_k, with w_sun the
+ * escape weight over the transport depth toward the sun. The light buffer already carries the
+ * similarity-scaled beam, whose mean radiance is E e^-tau_sun / 4 pi; the lattice adds the rest,
+ * the light the cloud has scattered out of the buffer's forward cone:
+ *   D(x) = E [w_sun / sum_k Omega_k w_k - e^-tau_sun / 4 pi]+,   in-scattered = beta_sca D,
+ * which vanishes for an isolated thin sample (w = 1 everywhere, sum 4 pi) and dominates inside
+ * thick cloud and on faces in its own shadow. It replaces eq. 26's constant xi, which stood in for
+ * that light. Not modelled: the diffuse light's anisotropy (its net flux away from the sun, which
+ * brightens a slab's base seen from below beyond the mean radiance). */
 #ifndef SL_SKY_LIGHT_H
 #define SL_SKY_LIGHT_H
 
+#include "sl_renderer.h"
 #include "sl_status.h"
 #include "sl_volume.h"
 
 struct sl_renderer;
+
+/* Whether scene sc's eye passes gather a diffuse lattice: the sky's light, the diffuse sunlight,
+ * or both. */
+static inline int sl__diffuse_sunlight_on(const sl_scene *sc)
+{
+  return sc->diffuse_sunlight && sc->lighting != SL_LIGHTING_LOW_ALBEDO;
+}
+static inline int sl__diffuse_lattice(const sl_scene *sc) { return sc->skylight || sl__diffuse_sunlight_on(sc); }
 
 typedef struct sl__sky_light {
   int n[3];            /* lattice samples along each axis */
@@ -28,14 +49,19 @@ typedef struct sl__sky_light {
   double spacing[3];   /* between samples (a multiple of the grid's) */
   sl_grid_view view;   /* the same lattice as the renderer's look-ups take it (no data) */
   int nwl, stride;     /* wavelengths; floats per sample (nwl + 1 rounded up to 4) */
-  /* Per sample, x fastest: beta M per wavelength, then beta (the lattice's transport extinction),
-   * so that a look-up interpolates M weighted by the extinction (sky_light_gather.h); NULL: no
-   * skylight. */
+  /* Per sample, x fastest: beta M per wavelength, then beta (the lattice's transport extinction
+   * plus a floor, sky_light.c), so that a look-up interpolates M weighted by the extinction
+   * (sky_light_gather.h); NULL: no diffuse light. */
   float *radiance;
 } sl__sky_light;
 
-/* Builds r->sky for r's sun, atmosphere and extinction (replaces what it held). Without the sun
- * up, radiance stays NULL (no sky). */
+/* The sunlight's diffuse share D / E at a sample whose transport depth toward the sun is tau_sun
+ * and whose dome weight is sum_k Omega_k w_k (1/sr). */
+double sl__diffuse_sunlight_share(double tau_sun, double dome_weight);
+
+/* Builds r->sky for r's sun, atmosphere and extinction (replaces what it held): the sky's light
+ * where sl_scene.skylight asks, the diffuse sunlight where sl__diffuse_sunlight_on. Without the
+ * sun up, radiance stays NULL (no sky). */
 int sl__sky_light_build(struct sl_renderer *r, sl_error *err);
 void sl__sky_light_free(sl__sky_light *s);
 

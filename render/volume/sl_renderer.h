@@ -66,6 +66,11 @@ typedef struct sl_scene {
    * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");
    * 0: the sun alone, the paper's model. */
   int skylight;
+  /* 1: sunlight that the cloud has scattered out of the light buffer's forward cone lights the
+   * volume too, carried by the skylight's lattice with the same closure (render/volume/sky_light.h;
+   * docs/ACCURACY.md, "Diffuse sunlight"); 0: the light buffer alone, the paper's model. The
+   * low-albedo model (single scattering) never takes it. */
+  int diffuse_sunlight;
   /* Albedo of a flat Lambertian ground at sea level (the plane z = 0, or the sphere), lit by the
    * sun through the storm's shadow and by the clear sky, where the background's rays meet it; 0: a
    * black ground (only the air in front of it shines). */

@@ -20,7 +20,8 @@ static void test_defaults(void)
   sl_settings_defaults(&s);
   /* The values render's --help has always stated, as numbers. */
   CHECK(s.width == 512 && s.height == 512 && s.time_index == 0 && s.slices == 0);
-  CHECK_CLOSE(s.xi, 0.05, 0, 0);
+  CHECK_CLOSE(s.xi, 0, 0, 0);
+  CHECK(s.skylight == 1 && s.diffuse_sunlight == 1);
   CHECK_CLOSE(s.fov_deg, 40, 0, 0);
   CHECK_CLOSE(s.view_azimuth_deg, 200, 0, 0);
   CHECK_CLOSE(s.sky[1], 0.055, 0, 0);

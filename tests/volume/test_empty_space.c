@@ -236,7 +236,7 @@ int main(void)
         sl_image img[2];
         for (int w = 0; w < 2; ++w) {
           sl_scene sc = {.volume = vols[w], .slices = 64, .lighting = SL_LIGHTING_LOW_ALBEDO, .light_volume = mode == 1};
-          if (mode == 2) sc.lighting = SL_LIGHTING_MULTIPLE, sc.optics = optics, sc.xi = 0.01;
+          if (mode == 2) sc.lighting = SL_LIGHTING_MULTIPLE, sc.optics = optics, sc.xi = 0.01, sc.diffuse_sunlight = 1;
           sl_sun_direction(suns[si][1], suns[si][0], sc.sun_direction);
           for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0, sc.sky_radiance[c] = 0.0;
           sl_renderer *r = sl_renderer_create(&sc, &err);
