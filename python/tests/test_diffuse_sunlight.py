@@ -23,7 +23,7 @@ def deck(q):
 
 @pytest.fixture(scope="module")
 def thick():
-    with deck(1e-4) as storm:  # vertical optical depth about 13
+    with deck(1e-4) as storm:  # vertical optical depth 12
         yield storm
 
 
@@ -48,7 +48,7 @@ def test_a_thick_deck_against_the_reference(thick, view):
 
 
 def test_a_thin_deck_is_single_scattering():
-    # Vertical optical depth 0.0013, 0.016 across the deck's 10 km half-width: a sample sees the
+    # Vertical optical depth 0.0012, 0.015 across the deck's 10 km half-width: a sample sees the
     # whole dome with weights 1 / (1 + 3/4 tau) near 1 and the beam barely dimmed, so the diffuse
     # share E [w_sun / sum_k Omega_k w_k - e^-tau / (4 pi)] is of order tau / 4 pi: the frame is
     # the light buffer's single scattering.
