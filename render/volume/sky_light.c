@@ -1,4 +1,5 @@
-/* Skylight on the volume: the lattice of diffuse sky radiance M (sky_light.h states the model).
+/* The diffuse light on the volume: the lattice of the sky dome's diffuse radiance M and of the
+ * diffuse sunlight D (sky_light.h states both models).
  *
  * The dome is split into SKY_DIRECTIONS cells around Fibonacci-sphere directions; each cell's
  * radiance is the mean of the sky model over SKY_CELL_SAMPLES finer directions that fall in it
