@@ -38,7 +38,9 @@
 /* The look-up's weight floor against the lattice's largest transport extinction. */
 #define SKY_WEIGHT_FLOOR 1e-6
 
-double sl__diffuse_sunlight_share(double tau_sun, double dome_weight)
+/* The sunlight's diffuse share D / E (sky_light.h) at a sample whose transport depth toward the sun
+ * is tau_sun and whose dome weight is sum_k Omega_k w_k (1/sr). */
+static double diffuse_sunlight_share(double tau_sun, double dome_weight)
 {
   const double total = 1.0 / (1.0 + SKY_TWO_STREAM * tau_sun) / dome_weight;
   const double beam = exp(-tau_sun) / (4.0 * M_PI);
@@ -250,11 +252,12 @@ static int dome_cells(const sl_renderer *r, const int cell[SKY_FINE], double z,
   }
   int count[SKY_DIRECTIONS] = {0};
   memset(radiance, 0, sizeof(double) * SKY_DIRECTIONS * SL_MAX_WAVELENGTHS);
-  for (int i = 0; i < SKY_FINE; ++i) {
+  /* Without skylight the lattice carries the diffuse sunlight alone: a black dome. */
+  for (int i = 0; r->scene.skylight && i < SKY_FINE; ++i) {
     double d[3], rad[SL_MAX_WAVELENGTHS];
     fibonacci_direction(i, SKY_FINE, d);
     sky_radiance(r, vp, d, rad);
-    for (int c = 0; c < nwl; ++c) radiance[cell[i]][c] += r->scene.skylight ? rad[c] : 0.0;
+    for (int c = 0; c < nwl; ++c) radiance[cell[i]][c] += rad[c];
     count[cell[i]]++;
   }
   for (int k = 0; k < SKY_DIRECTIONS; ++k)
@@ -358,6 +361,7 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
   float most = 0.0f;
   for (size_t q = 0; q < count; ++q) most = beta_tr[q] > most ? beta_tr[q] : most;
   const double floor_weight = SKY_WEIGHT_FLOOR * most;
+  const sl__sun_lane lane = diffuse_sun ? sl__sun_table_lane(suntab) : (sl__sun_lane){0};
 #pragma omp parallel for schedule(static)
   for (size_t q = 0; q < count; ++q) {
     float *out = acc + q * stride;
@@ -366,10 +370,9 @@ int sl__sky_light_build(sl_renderer *r, sl_error *err)
       const size_t I = q % s->n[0], J = q / s->n[0] % s->n[1], K = q / ((size_t)s->n[0] * s->n[1]);
       const double x[3] = {s->origin[0] + I * s->spacing[0], s->origin[1] + J * s->spacing[1],
                            s->origin[2] + K * s->spacing[2]};
-      const sl__sun_lane lane = sl__sun_table_lane(suntab);
       double e[SL_MAX_WAVELENGTHS];
       sl__sun_at(suntab, &lane, x, e);
-      const double share = sl__diffuse_sunlight_share(tau[q], out[nwl]);
+      const double share = diffuse_sunlight_share(tau[q], out[nwl]);
       for (int c = 0; c < nwl; ++c) sun[c] = e[c] * share;
     }
     const double inv_weight = 1.0 / out[nwl];

@@ -35,12 +35,13 @@
 
 struct sl_renderer;
 
-/* Whether scene sc's eye passes gather a diffuse lattice: the sky's light, the diffuse sunlight,
- * or both. */
+/* Whether scene sc takes the diffuse sunlight (never in the single-scattering low-albedo model). */
 static inline int sl__diffuse_sunlight_on(const sl_scene *sc)
 {
   return sc->diffuse_sunlight && sc->lighting != SL_LIGHTING_LOW_ALBEDO;
 }
+/* Whether scene sc's eye passes gather a diffuse lattice: the sky's light, the diffuse sunlight, or
+ * both. */
 static inline int sl__diffuse_lattice(const sl_scene *sc) { return sc->skylight || sl__diffuse_sunlight_on(sc); }
 
 typedef struct sl__sky_light {
@@ -54,10 +55,6 @@ typedef struct sl__sky_light {
    * (sky_light_gather.h); NULL: no diffuse light. */
   float *radiance;
 } sl__sky_light;
-
-/* The sunlight's diffuse share D / E at a sample whose transport depth toward the sun is tau_sun
- * and whose dome weight is sum_k Omega_k w_k (1/sr). */
-double sl__diffuse_sunlight_share(double tau_sun, double dome_weight);
 
 /* Builds r->sky for r's sun, atmosphere and extinction (replaces what it held): the sky's light
  * where sl_scene.skylight asks, the diffuse sunlight where sl__diffuse_sunlight_on. Without the
