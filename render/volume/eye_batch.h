@@ -128,12 +128,14 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   double log_kept[SL_MAX_WAVELENGTHS][EYE_BATCH], l0[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double l1[SL_MAX_WAVELENGTHS][EYE_BATCH], source[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double radiance[SL_MAX_WAVELENGTHS][EYE_BATCH], sun[SL_MAX_WAVELENGTHS][EYE_BATCH];
-  float sky[EYE_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M at each part's middle */
+  double sky_t[EYE_BATCH]; /* ray distance of the skylight's look-up for the part's segment */
+  float sky[EYE_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M for each part (its segment's) */
   ptrdiff_t texel[2][EYE_BATCH];
   float fields[EYE_BATCH][SL_MAX_FIELDS];
   int q[EYE_BATCH]; /* pixel */
   int sun_row[EYE_BATCH];
   int angle_index[EYE_BATCH];
+  unsigned char sky_first[EYE_BATCH]; /* the part is its segment's first: it looks the skylight up */
   int live; /* parts held */
 } eye_batch;
 
@@ -159,6 +161,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     if (beta_mid * slen[si] < EYE_THIN || eye_deep(f, nwl, sq[si])) {
       for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
       b->q[live] = sq[si], b->mid[live] = smid[si], b->len[live] = slen[si], b->beta[live] = beta_mid;
+      b->sky_t[live] = smid[si], b->sky_first[live] = 1;
       live++;
       continue;
     }
@@ -193,6 +196,20 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       t_at[parts] = t_near + (k + frac) * step, tau_at[parts] = want;
     }
     t_at[parts] = t_near + slen[si]; /* the last part takes the segment's clear end too */
+    /* A segment shorter than the skylight lattice's spacing, over which M barely changes, takes one
+     * look-up for all its parts (a look-up per part was most of the skylight's cost), at the
+     * optical depth tau_sky from the medium's start that the light it sends toward the eye has
+     * on average, its weight e^-tau in [0, depth]: exact where M is linear in tau; depth / 2 for
+     * a thin segment, 1 for a thick one. A longer one looks up at each part's middle. */
+    const sl__sky_light *sky = &r->sky;
+    const int sky_shared = slen[si] < fmin(fmin(sky->spacing[0], sky->spacing[1]), sky->spacing[2]);
+    const double tau_sky = depth < 1e-3 ? 0.5 * depth : 1.0 - depth / expm1(depth);
+    int k_sky = 0;
+    while (k_sky < EYE_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
+    const double span_sky = tau[k_sky + 1] - tau[k_sky];
+    const double sky_t =
+        t_near + (k_sky + (span_sky > 0.0 ? fmin(fmax((tau_sky - tau[k_sky]) / span_sky, 0.0), 1.0) : 0.5)) * step;
+    int sky_first = 1;
     for (int p = 0; p < parts; ++p) {
       /* The parts in the order of compositing: nearest first, or farthest first back to front. */
       const int part = back_to_front ? parts - 1 - p : p;
@@ -215,6 +232,8 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       for (int j = 0; j < nf; ++j) fields[j] = (float)(fields[j] * scale);
       beta = mean;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;
+      b->sky_t[live] = sky_shared ? sky_t : mid, b->sky_first[live] = (unsigned char)(sky_first || !sky_shared);
+      sky_first = 0;
       live++;
     }
   }
@@ -358,8 +377,12 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
     for (int s = 0; s < live; ++s) out[s] = sl__sun_lerp(rgb, b->sun_row[s], b->sun_frac[s], c) * b->inv_beta[s];
   }
   for (int s = 0; s < (r->sky.radiance ? live : 0); ++s) {
-    const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE;
-    const double x[3] = {o[0] + b->mid[s] * rq[0], o[1] + b->mid[s] * rq[1], o[2] + b->mid[s] * rq[2]};
+    if (!b->sky_first[s]) {
+      memcpy(b->sky[s], b->sky[s - 1], sizeof b->sky[s]);
+      continue;
+    }
+    const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE, t = b->sky_t[s];
+    const double x[3] = {o[0] + t * rq[0], o[1] + t * rq[1], o[2] + t * rq[2]};
     sl__sky_light_at(&r->sky, x, b->sky[s]);
   }
 }
