@@ -13,30 +13,43 @@ int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_
   double sigma[SL_VOLUME_SLOTS];
   for (int k = 0; k < SL_VOLUME_SLOTS; ++k)
     sigma[k] = v->eta[k] ? sl_particle_properties(sl_volume_field_type(v, k))->sigma_ext_m2 : 0.0;
-  int found = 0, box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
-  for (int j = 0; j < v->ny; ++j)
-    for (int i = 0; i < v->nx; ++i) {
-      double tau = 0.0;
-      int k_lo = -1, k_hi = -1;
-      for (int k = 0; k < v->nz; ++k) {
-        const size_t q = sl_volume_index(v, i, j, k);
+  /* Per column its optical depth and the lowest and highest level of beta >= beta_min, summed level
+   * by level so that the reads run along x (a column at a time strode nx ny apart and took a
+   * minute on the supercell's grid). */
+  const size_t columns = (size_t)v->nx * v->ny;
+  double *tau = calloc(columns, sizeof *tau);
+  int *k_lo = malloc(columns * sizeof *k_lo), *k_hi = malloc(columns * sizeof *k_hi);
+  if (!tau || !k_lo || !k_hi) {
+    free(tau), free(k_lo), free(k_hi);
+    return 0;
+  }
+  for (size_t c = 0; c < columns; ++c) k_lo[c] = k_hi[c] = -1;
+  for (int k = 0; k < v->nz; ++k)
+    for (int j = 0; j < v->ny; ++j)
+      for (int i = 0; i < v->nx; ++i) {
+        const size_t q = sl_volume_index(v, i, j, k), c = (size_t)j * v->nx + i;
         double beta = 0.0;
         for (int s = 0; s < SL_VOLUME_SLOTS; ++s)
           if (v->eta[s] && v->eta[s][q] > 0.0f) beta += v->eta[s][q] * sigma[s];
-        tau += beta * v->spacing[2];
+        tau[c] += beta * v->spacing[2];
         if (beta >= beta_min) {
-          if (k_lo < 0) k_lo = k;
-          k_hi = k;
+          if (k_lo[c] < 0) k_lo[c] = k;
+          k_hi[c] = k;
         }
       }
-      if (!(tau >= tau_min) || k_lo < 0) continue;
-      const int at[3][2] = {{i, i}, {j, j}, {k_lo, k_hi}};
+  int found = 0, box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
+  for (int j = 0; j < v->ny; ++j)
+    for (int i = 0; i < v->nx; ++i) {
+      const size_t c = (size_t)j * v->nx + i;
+      if (!(tau[c] >= tau_min) || k_lo[c] < 0) continue;
+      const int at[3][2] = {{i, i}, {j, j}, {k_lo[c], k_hi[c]}};
       for (int a = 0; a < 3; ++a) {
         if (!found || at[a][0] < box_lo[a]) box_lo[a] = at[a][0];
         if (!found || at[a][1] > box_hi[a]) box_hi[a] = at[a][1];
       }
       found = 1;
     }
+  free(tau), free(k_lo), free(k_hi);
   if (!found) return 0;
   for (int a = 0; a < 3; ++a) {
     lo[a] = v->origin[a] + (box_lo[a] - 0.5) * v->spacing[a];

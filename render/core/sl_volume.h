@@ -58,7 +58,8 @@ static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)
 void sl_volume_bounds(const sl_volume *v, double lo[3], double hi[3]);
 /* The box around the storm's condensate: the columns whose vertical optical depth (Table 2's
  * cross-sections) reaches tau_min, and within them the samples whose extinction reaches
- * beta_min (m^-1). Returns 0 (lo, hi untouched) when no column does. */
+ * beta_min (m^-1). Returns 0 (lo, hi untouched) when no column does (or its column sums find no
+ * memory). */
 int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_min, double lo[3], double hi[3]);
 
 /* A scalar field on the same lattice, sampled trilinearly between cell centres and clamped to
