@@ -28,7 +28,7 @@ vtkStandardNewMacro(GpuVolumePass);
 
 namespace {
 
-constexpr int kMaxFields = SL_GPU_MAX_FIELDS; // one RGBA texture (shaders/volume_grid.glsl)
+constexpr int kMaxFields = SL_GPU_MAX_FIELDS; // two RGBA textures (shaders/volume_grid.glsl)
 constexpr int kWavelengths = 3;
 
 double seconds_since(std::chrono::steady_clock::time_point t)
@@ -215,7 +215,7 @@ std::string GpuVolumePass::Unsupported(const sl_renderer *r)
   const sl_light_model *m = in.model;
   if (m->nwl != kWavelengths)
     return "the GPU path carries three wavelengths; this scene has " + std::to_string(m->nwl);
-  if (m->nf > kMaxFields) return "more than four particle fields";
+  if (m->nf > kMaxFields) return "more than " + std::to_string(kMaxFields) + " particle fields";
   if (in.skylight && !in.sky_ready) return "the skylight's lattice was not built (sl_renderer_prepare_sky)";
   if (m->mode == SL_LIGHTING_LOW_ALBEDO) return "";
   const sl_phase_table *t0 = m->table[0][0];
@@ -238,7 +238,7 @@ bool GpuVolumePass::Fail(const std::string &why)
 void GpuVolumePass::ReleaseGraphicsResources(vtkWindow *w)
 {
   model_.Release(w);
-  for (vtkTextureObject **t : {&fields_, &light_, &sunlight_, &opaque_, &sky_, &shadow_}) release(t, w);
+  for (vtkTextureObject **t : {&fields_, &fields_hi_, &light_, &sunlight_, &opaque_, &sky_, &shadow_}) release(t, w);
   for (vtkOpenGLFramebufferObject **f : {&plane_fbo_, &eye_fbo_, &resolve_fbo_})
     if (*f) {
       if (w) (*f)->ReleaseGraphicsResources(w);
@@ -259,13 +259,22 @@ bool GpuVolumePass::Upload(vtkOpenGLRenderWindow *win)
   sl_renderer_gpu_inputs_get(renderer_, &in);
   const sl_light_model *m = in.model;
   const size_t count = (size_t)in.n[0] * in.n[1] * in.n[2];
-  // Fields: one float 3D texture, one channel per present field (at least one).
-  const int comps = std::max(1, m->nf);
-  std::vector<float> fields(count * comps, 0.0f);
-  if (m->nf > 0) std::copy(in.fields, in.fields + count * m->nf, fields.begin());
+  // Fields: two float 3D textures, fields 0..3 and 4..7, a channel per present field (at least
+  // one each: the second is a single zero texel where the scene has four fields or fewer).
+  const int lo = std::min(std::max(1, m->nf), 4), hi = m->nf - 4;
+  std::vector<float> fields(count * lo, 0.0f), fields_hi(hi > 0 ? count * hi : 1, 0.0f);
+  for (size_t v = 0; v < (m->nf > 0 ? count : 0); ++v)
+    for (int j = 0; j < m->nf; ++j) {
+      const float beta = in.fields[v * m->nf + j];
+      if (j < 4) fields[v * lo + j] = beta;
+      else fields_hi[v * hi + (j - 4)] = beta;
+    }
   if (!fields_) fields_ = new_float_texture(win);
-  if (!fields_->Create3DFromRaw(in.n[0], in.n[1], in.n[2], comps, VTK_FLOAT, fields.data()))
-    return Fail("the OpenGL context cannot hold the volume as a float 3D texture");
+  if (!fields_hi_) fields_hi_ = new_float_texture(win);
+  if (!fields_->Create3DFromRaw(in.n[0], in.n[1], in.n[2], lo, VTK_FLOAT, fields.data()) ||
+      !(hi > 0 ? fields_hi_->Create3DFromRaw(in.n[0], in.n[1], in.n[2], hi, VTK_FLOAT, fields_hi.data())
+               : fields_hi_->Create3DFromRaw(1, 1, 1, 1, VTK_FLOAT, fields_hi.data())))
+    return Fail("the OpenGL context cannot hold the volume as float 3D textures");
   std::string why;
   if (!model_.Upload(win, m, &why)) return Fail(why);
   uploaded_ = true;
@@ -280,6 +289,7 @@ void GpuVolumePass::SetVolumeUniforms(vtkShaderProgram *p)
   sl_renderer_gpu_inputs_get(renderer_, &in);
   model_.SetUniforms(p);
   p->SetUniformi("slFields", fields_->GetTextureUnit());
+  p->SetUniformi("slFieldsHi", fields_hi_->GetTextureUnit());
   p->SetUniformi("slLight", light_->GetTextureUnit());
   const float spacing[3] = {(float)in.spacing[0], (float)in.spacing[1], (float)in.spacing[2]};
   const float n[3] = {(float)in.n[0], (float)in.n[1], (float)in.n[2]};
@@ -353,7 +363,7 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, w, h);
   gl->vtkglScissor(0, 0, w, h);
-  activate({fields_, light_});
+  activate({fields_, fields_hi_, light_});
   model_.Activate();
   vtkShaderProgram *p = sweep_quad_->Program;
   SetVolumeUniforms(p);
@@ -371,7 +381,7 @@ bool GpuVolumePass::Sweep(vtkOpenGLRenderWindow *win)
     glCopyTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, kk, 0, 0, w, h);
   }
   model_.Deactivate();
-  deactivate({fields_, light_});
+  deactivate({fields_, fields_hi_, light_});
   // The skylight's lattice (render/volume/sky_light.h), built on the CPU for this sun: beta M per
   // wavelength and beta per sample; one zero texel without it, so the sampler stays valid.
   const bool sky = in.skylight && in.sky;
@@ -414,7 +424,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   vtkOpenGLState *gl = win->GetState();
   gl->vtkglViewport(0, 0, width, height);
   gl->vtkglScissor(0, 0, width, height);
-  activate({fields_, light_, sunlight_, opaque_, sky_});
+  activate({fields_, fields_hi_, light_, sunlight_, opaque_, sky_});
   model_.Activate();
   vtkShaderProgram *p = eye_quad_->Program;
   p->SetUniformi("slSkylight", in.skylight && in.sky ? 1 : 0);
@@ -445,7 +455,7 @@ bool GpuVolumePass::Eye(vtkOpenGLRenderWindow *win)
   p->SetUniformf("slMarchSamples", (float)in.march_samples);
   eye_quad_->Render();
   model_.Deactivate();
-  deactivate({fields_, light_, sunlight_, opaque_, sky_});
+  deactivate({fields_, fields_hi_, light_, sunlight_, opaque_, sky_});
   glFinish();  // the eye pass's time is its own, not the read-back's or the resolve's
   if (!read_accumulator_) return true;
   const auto t = std::chrono::steady_clock::now();

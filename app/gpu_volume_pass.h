@@ -119,7 +119,8 @@ class GpuVolumePass : public vtkRenderPass {
   double light_seconds_ = 0.0, eye_seconds_ = 0.0, accumulator_read_seconds_ = 0.0, resolve_seconds_ = 0.0;
   double layers_read_seconds_ = 0.0;
   GpuModelTextures model_;
-  vtkTextureObject *fields_ = nullptr, *light_ = nullptr, *sunlight_ = nullptr;
+  vtkTextureObject *fields_ = nullptr, *fields_hi_ = nullptr; // fields 0..3 and 4..7
+  vtkTextureObject *light_ = nullptr, *sunlight_ = nullptr;
   vtkTextureObject *opaque_ = nullptr;  // the camera's opaque distances (terrain, round earth)
   vtkTextureObject *sky_ = nullptr;     // the skylight's lattice, per sun
   vtkTextureObject *shadow_ = nullptr;  // the ground's shadow map, per sun

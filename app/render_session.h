@@ -34,7 +34,7 @@ class RenderSession {
   // line; *exit is 2 for a usage error, 1 for a failure.
   bool prepare(const sl_settings &s, bool quiet, std::string *why, int *exit);
   // The volume is for the GPU pass (`view`, `render --gpu`): cloud and rain size tables then share
-  // its four fields (sl_load_options.max_fields).
+  // the fields it carries (SL_GPU_MAX_FIELDS, sl_load_options.max_fields).
   bool for_gpu = false;
 
   // Another sun (compass azimuth, elevation, degrees): the light volume is lit again on the next

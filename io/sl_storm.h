@@ -131,8 +131,8 @@ typedef struct sl_load_options {
   /* > 0: cloud droplets per m^3 where the file writes no droplet number, instead of the scheme's
    * fixed number (CM1's namelist ndcnst, which its output does not record) (--droplet-number). */
   double droplet_number_m3;
-  /* Fields the renderer will carry per sample, 0: SL_VOLUME_MAX_FIELDS (8); the GPU pass carries
-   * SL_GPU_MAX_FIELDS (4). The cloud and rain size tables share what the species leave. */
+  /* Fields the renderer will carry per sample, 0: SL_VOLUME_MAX_FIELDS (8), which the GPU pass
+   * carries too (SL_GPU_MAX_FIELDS). The cloud and rain size tables share what the species leave. */
   int max_fields;
   /* Placement (docs/GEOREFERENCING.md). The world frame is the local east-north-up frame of
    * (origin_lat, origin_lon) when has_origin is set, else of this time's grid centre; a series

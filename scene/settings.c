@@ -123,7 +123,7 @@ const sl_option sl_settings_options[] = {
      "representative: one particle per type (Riley et al. 2004)",
      "sizes", SL_OPTION_CHOICE, 0, 0, "sizes|representative", NULL, AT(representative_particles), NULL},
     {"max-fields", "N",
-     "particle fields the renderer carries per sample, 1..8 (--gpu: at most 4); cloud and rain\n"
+     "particle fields the renderer carries per sample, 1..8 (--gpu too); cloud and rain\n"
      "take tables at a few effective radii in what the species leave: fewer fields, fewer tables, faster\n"
      "samples (docs/DATA.md, \"Optics at each cell's size\")",
      "8", SL_OPTION_INT, 1, SL_VOLUME_MAX_FIELDS, NULL, NULL, AT(max_fields), NULL},

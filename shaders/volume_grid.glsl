@@ -3,6 +3,7 @@
 // (trilinear on ln I and n, then exp: light_volume.c). Manual trilinear from texelFetch, in
 // the CPU's order of operations.
 uniform sampler3D slFields;  // extinction per present field (RGBA = fields 0..3), m^-1
+uniform sampler3D slFieldsHi; // fields 4..7 (one zero texel where there are four or fewer)
 uniform sampler3D slLight;   // light state (ln I per wavelength, n), axes (a1, a2, sweep order)
 uniform vec3 slSpacing;
 uniform vec3 slGridN;        // samples along x, y, z
@@ -47,6 +48,13 @@ bool slSampleFields(vec3 x, out float beta[SL_MAX_FIELDS])
   if (slNf > 1) beta[1] = v.g;
   if (slNf > 2) beta[2] = v.b;
   if (slNf > 3) beta[3] = v.a;
+  if (slNf > 4) {
+    vec4 w = slTrilinear(slFieldsHi, i, i1, f);
+    beta[4] = w.r;
+    if (slNf > 5) beta[5] = w.g;
+    if (slNf > 6) beta[6] = w.b;
+    if (slNf > 7) beta[7] = w.a;
+  }
   return true;
 }
 

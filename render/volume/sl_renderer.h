@@ -16,8 +16,8 @@
 extern "C" {
 #endif
 
-/* The GPU pass (app/gpu_volume_pass) carries four particle fields: one RGBA texture. */
-#define SL_GPU_MAX_FIELDS 4
+/* The GPU pass (app/gpu_volume_pass) carries eight particle fields, as the CPU: two RGBA textures. */
+#define SL_GPU_MAX_FIELDS 8
 #define SL_MAX_WAVELENGTHS SL_SKY_MAX_WAVELENGTHS /* carried per sample: the atmosphere's set */
 #define SL_CHANNELS 3 /* output: linear sRGB; the paper's three wavelengths (650, 515, 440 nm) are
                           used as red, green and blue as they are, other sets go through CIE 1931 */
