@@ -1,4 +1,4 @@
-"""base_rain_classes.py SPP [WIDTH HEIGHT]: the supercell's cloud base and rain shaft seen from the
+"""base_rain_classes.py SPP [WIDTH HEIGHT] | --shape [WIDTH HEIGHT]: the supercell's cloud base and rain shaft seen from the
 ground (datasets/scenes/supercell_chaser.json) in the fast renderer's settings against the Monte
 Carlo reference with skylight (docs/ACCURACY.md, "Base and rain shaft"). Both draw a black ground
 (the reference's), so whole frames compare.
@@ -11,6 +11,8 @@ their visible surface; *base* pixels look up (ray at least 3 degrees above the h
 cloud (alpha > 0.9) whose visible surface lies within 750 m above the base, and
 no such rain. The visible surface and alpha are the fast frame's (opacity-weighted depth along
 the ray; the lighting does not move them).
+--shape prints, without a reference, what the file gives the shaft: the rain's extent below the
+base against the base's height, and the rain pixels' optical depth and opacity along their rays.
 Run from the repository's root with PYTHONPATH=build/release/python and /usr/bin/python3."""
 import sys
 
@@ -45,6 +47,7 @@ def rays(camera, width, height):
 
 def fields(placement):
     ds = netCDF4.Dataset(DATA)
+    ds.set_auto_mask(False)
     prs, th = ds["prs"][0].astype(float), ds["th"][0].astype(float)
     rho = prs / (287.0 * th * (prs / 1e5) ** (287.0 / 1004.0))
     qc, qr, nr = (ds[v][0].astype(float) for v in ("qc", "qr", "ncr"))
@@ -58,37 +61,70 @@ def fields(placement):
     return beta_rain, z, base
 
 
-def classes(frame, placement, width, height):
-    beta_rain, z, base = fields(placement)
+def rain_depth(p, d, placement, beta_rain, z, base, t_stop):
+    """Rain optical depth below the base along each ray up to t_stop (nearest sample, 125 m steps)."""
     origin, spacing = np.asarray(placement["origin"]), np.asarray(placement["spacing"])
     nx, ny, nz = placement["shape"]
-    p, d, fwd = rays(frame.camera, width, height)
-    t_surface = np.where(frame.alpha > 0.01, frame.depth / np.maximum(d @ fwd, 1e-6), np.inf)
-    tau = np.zeros((height, width))
+    tau = np.zeros(d.shape[:2])
     step = 125.0
     for t in np.arange(step / 2, 150000.0, step):
         x = p + t * d
         i = np.rint((x[..., 0] - origin[0]) / spacing[0]).astype(int)
         j = np.rint((x[..., 1] - origin[1]) / spacing[1]).astype(int)
         k = np.searchsorted(z, x[..., 2])
-        inside = (i >= 0) & (i < nx) & (j >= 0) & (j < ny) & (k < nz) & (x[..., 2] < base) & (t < t_surface)
+        inside = (i >= 0) & (i < nx) & (j >= 0) & (j < ny) & (k < nz) & (x[..., 2] < base) & (t < t_stop)
         tau[inside] += step * beta_rain[k[inside], j[inside], i[inside]]
+    return tau
+
+
+def classes(frame, placement, width, height):
+    beta_rain, z, base = fields(placement)
+    p, d, fwd = rays(frame.camera, width, height)
+    t_surface = np.where(frame.alpha > 0.01, frame.depth / np.maximum(d @ fwd, 1e-6), np.inf)
+    tau = rain_depth(p, d, placement, beta_rain, z, base, t_surface)
     height_surface = np.where(np.isfinite(t_surface), p[2] + np.where(np.isfinite(t_surface), t_surface, 0) * d[..., 2],
                               np.inf)
     rain = (tau >= 0.3) & (frame.alpha > 0.3)
     cloud_base = (d[..., 2] > np.sin(np.radians(3))) & (frame.alpha > 0.9) & (height_surface < base + 750) & ~rain
-    return {"base": cloud_base, "rain": rain}, base
+    return {"base": cloud_base, "rain": rain}, base, rain_depth(p, d, placement, beta_rain, z, base, np.inf)
+
+
+def shaft_shape(placement, frame, masks, tau, base):
+    """The shaft's shape in the file: columns whose rain below the base has vertical optical depth
+    >= 0.3, their extent against the base's height; the rain pixels' rain optical depth along
+    their whole rays and the frame's opacity there."""
+    beta_rain, z, _ = fields(placement)
+    dz = np.diff(np.concatenate(([0.0], 0.5 * (z[1:] + z[:-1]), [z[-1]])))
+    below = (z < base)[:, None, None]
+    column = (beta_rain * dz[:, None, None] * below).sum(axis=0)
+    wet = column >= 0.3
+    dx, dy = placement["spacing"][0], placement["spacing"][1]
+    jj, ii = np.nonzero(wet)
+    area = wet.sum() * dx * dy
+    print(f"rain below the {base:.0f} m base: {wet.sum()} columns of vertical optical depth >= 0.3 "
+          f"(median {np.median(column[wet]):.2f}), {area / 1e6:.0f} km^2, spanning "
+          f"{(ii.max() - ii.min() + 1) * dx / 1e3:.1f} km east-west and {(jj.max() - jj.min() + 1) * dy / 1e3:.1f} km "
+          f"north-south; width / height of an equal-area disc: {2 * np.sqrt(area / np.pi) / base:.0f}")
+    r = masks["rain"]
+    q = np.percentile(tau[r], [25, 50, 75])
+    a = np.percentile(frame.alpha[r], [25, 50, 75])
+    print(f"rain pixels ({r.sum()}): rain optical depth along the whole ray, quartiles {q[0]:.2f} {q[1]:.2f} {q[2]:.2f}; "
+          f"the frame's opacity {a[0]:.2f} {a[1]:.2f} {a[2]:.2f}")
 
 
 def main():
     args = sys.argv[1:]
     if len(args) not in (1, 3):
         sys.exit(__doc__)
-    spp = int(args[0])
     size = {"width": int(args[1]), "height": int(args[2])} if len(args) == 3 else {"width": 96, "height": 60}
     scene = stormlight.Scene.from_json(SCENE, ground_albedo=0, **size)
+    frame = scene.render()
+    masks, base, tau = classes(frame, scene.placement(), size["width"], size["height"])
+    if args[0] == "--shape":
+        shaft_shape(scene.placement(), frame, masks, tau, base)
+        return
+    spp = int(args[0])
     ref = scene.reference(spp=spp, seed=5, skylight=True)
-    masks, base = classes(scene.render(), scene.placement(), size["width"], size["height"])
     print(f"{SCENE} at {size['width']}x{size['height']}, reference {spp} spp with skylight; cloud base "
           f"{base:.0f} m; pixels: base {masks['base'].sum()}, rain {masks['rain'].sum()}")
     for name, cls in masks.items():
