@@ -14,9 +14,8 @@ mkdir -p "$out"
 "$sl" render --scene datasets/scenes/default.json --quiet --out "$out/cumulonimbus.exr,$out/cumulonimbus.png"
 
 # The montage's order is the README's caption's: Fig. 5, 6, 4, 11, 9, 10, then Fig. 13's two
-# lightings of one view. Every tile but the halo's is the CM1 supercell at 70 minutes (the shared
-# data folder beside the checkout); the halo is the bundled cirrus's (the supercell's anvil is
-# thick where the sun shines through it).
+# lightings of one view. Every tile is the CM1 supercell at 70 minutes (the shared data folder
+# beside the checkout); the halo is on the thin eastern edge of its anvil, under a morning sun.
 tiles=()
 tile() { # NAME SCENE [FLAGS...]
   local name=$1 scene=$2
@@ -26,7 +25,7 @@ tile() { # NAME SCENE [FLAGS...]
   tiles+=("$out/$name.png")
 }
 tile fig5 supercell_rainbow
-tile fig6 fig6_halo
+tile fig6 supercell_halo
 tile fig4 supercell_above_anvil
 tile fig11 supercell_sunset
 tile fig9 supercell_high_sun
