@@ -9,6 +9,7 @@
 #include "sl_geo.h"
 #include "sl_georef.h"
 #include "sl_scene_build.h"
+#include "sl_terrain.h"
 
 static double seconds_now(void)
 {
@@ -129,6 +130,21 @@ sl_optics_tables *sl_scene_tables(const sl_volume *v, int spectral, int max_orde
   return sl_optics_build(&req, err);
 }
 
+double sl_scene_ground_albedo(const sl_settings *s, const sl_storm_frame *f)
+{
+  if (sl_settings_given(s, "ground-albedo")) return s->ground_albedo;
+  /* The domain's mean: the file's own albedo, else land and water from its land mask. */
+  const size_t n = (size_t)f->volume.nx * f->volume.ny;
+  double sum = 0.0;
+  size_t count = 0;
+  const float *values = f->surface_albedo ? f->surface_albedo : f->land_mask;
+  for (size_t c = 0; values && c < n; ++c)
+    if (values[c] >= 0.0f && values[c] <= 1.0f) sum += values[c], count++;
+  if (!count) return s->ground_albedo;
+  const double mean = sum / count;
+  return f->surface_albedo ? mean : SL_LAND_ALBEDO * mean + SL_WATER_ALBEDO * (1.0 - mean);
+}
+
 void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmosphere *air,
                    const sl_optics_tables *optics, sl_scene *out)
 {
@@ -142,7 +158,7 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
   out->skylight = s->skylight;
   out->diffuse_sunlight = s->diffuse_sunlight;
   /* The terrain draws its own ground (app/terrain_scene); the flat one is the sky's otherwise. */
-  out->ground_albedo = s->terrain ? 0.0 : s->ground_albedo;
+  out->ground_albedo = s->terrain ? 0.0 : sl_scene_ground_albedo(s, &b->frame);
   /* Compass azimuth into the volume's axes, which are the grid's (docs/GEOREFERENCING.md). */
   sl_sun_direction(b->sun_elevation_deg, sl_georef_grid_azimuth(&b->frame.georef, b->sun_azimuth_deg),
                    out->sun_direction);

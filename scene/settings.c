@@ -86,7 +86,8 @@ const sl_option sl_settings_options[] = {
      "on", SL_OPTION_CHOICE, 0, 0, "off|on", NULL, AT(diffuse_sunlight), NULL},
     {"ground-albedo", "A",
      "albedo of the flat ground at sea level under the storm (without --terrain), lit by the sun\n"
-     "through the storm's shadow and by the sky (land 0.15, sea 0.06; 0: black, only the air in front shines)",
+     "through the storm's shadow and by the sky (land 0.15, sea 0.06; 0: black, only the air in front shines);\n"
+     "not given: the domain's mean of the file's ALBEDO, else of its LANDMASK or XLAND, else 0.15",
      "0.15", SL_OPTION_NUMBER, 0, 1, NULL, NULL, AT(ground_albedo), NULL},
     {"no-atmosphere", NULL, "no air: unattenuated white sunlight and the constant --sky behind the volume", NULL,
      SL_OPTION_FLAG, 0, 0, NULL, NULL, AT(no_atmosphere), NULL},

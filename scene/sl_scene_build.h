@@ -53,6 +53,10 @@ int sl_scene_air(const sl_settings *s, int spectral, sl_atmosphere *atm, sl_erro
  * type's own (cached on disk). NULL with err on failure. */
 sl_optics_tables *sl_scene_tables(const sl_volume *v, int spectral, int max_order, sl_optics_progress_fn progress,
                                   void *progress_user, sl_error *err);
+/* The flat ground's albedo (sl_scene.ground_albedo, without --terrain): ground-albedo where given,
+ * else the domain's mean of the file's ALBEDO, else of its land mask (land SL_LAND_ALBEDO, water
+ * SL_WATER_ALBEDO), else the setting's default (land). */
+double sl_scene_ground_albedo(const sl_settings *s, const sl_storm_frame *f);
 /* The renderer's scene from the settings, over b's volume, air (NULL: none) and tables. */
 void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmosphere *air,
                    const sl_optics_tables *optics, sl_scene *out);
