@@ -135,7 +135,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   int q[EYE_BATCH]; /* pixel */
   int sun_row[EYE_BATCH];
   int angle_index[EYE_BATCH];
-  unsigned char sky_first[EYE_BATCH]; /* the part is its segment's first: it looks the skylight up */
+  unsigned char sky_first[EYE_BATCH]; /* the part looks the skylight up (else: as the part before) */
   int live; /* parts held */
 } eye_batch;
 
@@ -202,13 +202,16 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
      * on average, its weight e^-tau in [0, depth]: exact where M is linear in tau; depth / 2 for
      * a thin segment, 1 for a thick one. A longer one looks up at each part's middle. */
     const sl__sky_light *sky = &r->sky;
-    const int sky_shared = slen[si] < fmin(fmin(sky->spacing[0], sky->spacing[1]), sky->spacing[2]);
-    const double tau_sky = depth < 1e-3 ? 0.5 * depth : 1.0 - depth / expm1(depth);
-    int k_sky = 0;
-    while (k_sky < EYE_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
-    const double span_sky = tau[k_sky + 1] - tau[k_sky];
-    const double sky_t =
-        t_near + (k_sky + (span_sky > 0.0 ? fmin(fmax((tau_sky - tau[k_sky]) / span_sky, 0.0), 1.0) : 0.5)) * step;
+    const int sky_shared =
+        sky->radiance && slen[si] < fmin(fmin(sky->spacing[0], sky->spacing[1]), sky->spacing[2]);
+    double sky_t = 0.0;
+    if (sky_shared) {
+      const double tau_sky = depth < 1e-3 ? 0.5 * depth : 1.0 - depth / expm1(depth);
+      int k_sky = 0;
+      while (k_sky < EYE_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
+      const double span = tau[k_sky + 1] - tau[k_sky];
+      sky_t = t_near + (k_sky + (span > 0.0 ? fmin(fmax((tau_sky - tau[k_sky]) / span, 0.0), 1.0) : 0.5)) * step;
+    }
     int sky_first = 1;
     for (int p = 0; p < parts; ++p) {
       /* The parts in the order of compositing: nearest first, or farthest first back to front. */
