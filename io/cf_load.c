@@ -406,6 +406,40 @@ done:
   return rc;
 }
 
+/* A 2-D field on the grid's columns by standard_name (with or without time), into *out in the
+ * volume's column order (axes reversed as cf_block does), as a fraction: units "%" or "percent"
+ * divided by 100; missing values NaN. A variable of another shape is passed over (*out stays NULL):
+ * it describes some other grid, and the ground under the storm is optional. */
+static int cf_surface_field(const sl_nc *f, const cf_layout *L, const sl_subset *s, int t, const char *standard_name,
+                            float **out, sl_error *err)
+{
+  char name[NC_MAX_NAME + 1];
+  if (!cf_find_var(f, 0, "", standard_name, name)) return SL_OK;
+  const char *const dims[2] = {L->dim[2], L->dim[3]};
+  const size_t lens[2] = {L->len[2], L->len[3]};
+  sl_nc_var v;
+  sl_error other_shape = {0};
+  if (sl_nc_var_open(f, name, 2, dims, lens, &v, &other_shape)) return SL_OK;
+  char units[64] = "";
+  sl_nc_attr_text(f, v.varid, "units", units, sizeof units);
+  const double scale = strcmp(units, "%") == 0 || strcmp(units, "percent") == 0 ? 0.01 : 1.0;
+  const size_t nx = (size_t)s->nx, ny = (size_t)s->ny;
+  double *read = malloc(nx * ny * sizeof *read);
+  *out = malloc(nx * ny * sizeof **out);
+  if (!read || !*out) {
+    free(read);
+    return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
+  }
+  const int rc = sl_nc_read_slab(f, &v, t, -1, s, read, err);
+  for (size_t j = 0; !rc && j < ny; ++j)
+    for (size_t i = 0; i < nx; ++i) {
+      const size_t from = (L->flip[2] ? ny - 1 - j : j) * nx + (L->flip[3] ? nx - 1 - i : i);
+      (*out)[j * nx + i] = (float)(read[from] * scale);
+    }
+  free(read);
+  return rc;
+}
+
 int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,
                int nspecies, sl_storm_frame *frame, sl_error *err)
 {
@@ -487,6 +521,12 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   frame->terrain_min = frame->terrain_max = ground;
   frame->model_top = top;
   frame->time_index = c.t;
+  /* The ground under the storm, where the file describes it (CF standard names): its albedo, and
+   * land or water (a binary mask, else the land's area fraction). */
+  if ((rc = cf_surface_field(f, &L, &s, c.t, "surface_albedo", &frame->surface_albedo, err))) goto done;
+  if ((rc = cf_surface_field(f, &L, &s, c.t, "land_binary_mask", &frame->land_mask, err))) goto done;
+  if (!frame->land_mask && (rc = cf_surface_field(f, &L, &s, c.t, "land_area_fraction", &frame->land_mask, err)))
+    goto done;
 done:
   free(c.z_iface);
   free(c.z_cols);

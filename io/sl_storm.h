@@ -109,8 +109,9 @@ typedef struct sl_storm_frame {
    * freed by sl_storm_frame_free. NULL when the reader had none. */
   float *terrain_height;      /* HGT, m above sea level (world z: less the drop with earth_curvature) */
   double *column_lat, *column_lon; /* XLAT, XLONG, degrees north and east */
-  float *surface_albedo;      /* the file's ALBEDO (land-surface model, broadband), NULL when absent */
-  float *land_mask;           /* 1 land, 0 water: LANDMASK, else XLAND (1 land, 2 water); NULL when absent */
+  float *surface_albedo;      /* the file's ALBEDO (land-surface model, broadband; CF surface_albedo), NULL when absent */
+  float *land_mask;           /* 1 land, 0 water: LANDMASK, else XLAND (1 land, 2 water); CF land_binary_mask, else
+                                 land_area_fraction (0..1); NULL when absent */
 } sl_storm_frame;
 
 /* Zero-initialised options read the whole domain at its full resolution. */

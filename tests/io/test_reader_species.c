@@ -11,6 +11,7 @@
 #include "sl_optics.h"
 #include "sl_series.h"
 #include "sl_storm.h"
+#include "ncgen_file.h"
 #include "sl_testing.h"
 #include "column_path.h"
 
@@ -21,15 +22,8 @@ static const char *make(const char *name, const char *cdl)
 {
   static char nc[8][512];
   static int which;
-  char path[600], cmd[1400];
-  snprintf(path, sizeof path, "%s/%s.cdl", dir, name);
-  FILE *f = fopen(path, "w");
-  fputs(cdl, f);
-  fclose(f);
   char *out = nc[which++ % 8];
-  snprintf(out, 512, "%s/%s.nc", dir, name);
-  snprintf(cmd, sizeof cmd, "ncgen -4 -o %s %s", out, path);
-  if (system(cmd) != 0) fprintf(stderr, "ncgen failed on %s\n", path);
+  sl_test_ncgen(dir, name, cdl, out, sizeof nc[0]);
   return out;
 }
 
