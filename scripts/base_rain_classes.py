@@ -45,7 +45,7 @@ def rays(camera, width, height):
     return p, d / np.linalg.norm(d, axis=2, keepdims=True), fwd
 
 
-def fields(placement):
+def fields():
     ds = netCDF4.Dataset(DATA)
     ds.set_auto_mask(False)
     prs, th = ds["prs"][0].astype(float), ds["th"][0].astype(float)
@@ -77,23 +77,25 @@ def rain_depth(p, d, placement, beta_rain, z, base, t_stop):
     return tau
 
 
-def classes(frame, placement, width, height):
-    beta_rain, z, base = fields(placement)
+def classes(frame, placement, rain, width, height):
+    """The pixel classes, and the pixels' rays (origin, directions); rain is fields()'s."""
+    beta_rain, z, base = rain
     p, d, fwd = rays(frame.camera, width, height)
     t_surface = np.where(frame.alpha > 0.01, frame.depth / np.maximum(d @ fwd, 1e-6), np.inf)
     tau = rain_depth(p, d, placement, beta_rain, z, base, t_surface)
     height_surface = np.where(np.isfinite(t_surface), p[2] + np.where(np.isfinite(t_surface), t_surface, 0) * d[..., 2],
                               np.inf)
-    rain = (tau >= 0.3) & (frame.alpha > 0.3)
-    cloud_base = (d[..., 2] > np.sin(np.radians(3))) & (frame.alpha > 0.9) & (height_surface < base + 750) & ~rain
-    return {"base": cloud_base, "rain": rain}, base, rain_depth(p, d, placement, beta_rain, z, base, np.inf)
+    wet = (tau >= 0.3) & (frame.alpha > 0.3)
+    cloud_base = (d[..., 2] > np.sin(np.radians(3))) & (frame.alpha > 0.9) & (height_surface < base + 750) & ~wet
+    return {"base": cloud_base, "rain": wet}, (p, d)
 
 
-def shaft_shape(placement, frame, masks, tau, base):
+def shaft_shape(placement, frame, masks, ray, rain):
     """The shaft's shape in the file: columns whose rain below the base has vertical optical depth
     >= 0.3, their extent against the base's height; the rain pixels' rain optical depth along
     their whole rays and the frame's opacity there."""
-    beta_rain, z, _ = fields(placement)
+    beta_rain, z, base = rain
+    tau = rain_depth(*ray, placement, beta_rain, z, base, np.inf)
     dz = np.diff(np.concatenate(([0.0], 0.5 * (z[1:] + z[:-1]), [z[-1]])))
     below = (z < base)[:, None, None]
     column = (beta_rain * dz[:, None, None] * below).sum(axis=0)
@@ -119,9 +121,11 @@ def main():
     size = {"width": int(args[1]), "height": int(args[2])} if len(args) == 3 else {"width": 96, "height": 60}
     scene = stormlight.Scene.from_json(SCENE, ground_albedo=0, **size)
     frame = scene.render()
-    masks, base, tau = classes(frame, scene.placement(), size["width"], size["height"])
+    rain = fields()
+    base = rain[2]
+    masks, ray = classes(frame, scene.placement(), rain, size["width"], size["height"])
     if args[0] == "--shape":
-        shaft_shape(scene.placement(), frame, masks, tau, base)
+        shaft_shape(scene.placement(), frame, masks, ray, rain)
         return
     spp = int(args[0])
     ref = scene.reference(spp=spp, seed=5, skylight=True)

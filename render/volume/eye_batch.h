@@ -135,7 +135,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   int q[EYE_BATCH]; /* pixel */
   int sun_row[EYE_BATCH];
   int angle_index[EYE_BATCH];
-  unsigned char sky_first[EYE_BATCH]; /* the part looks the skylight up (else: as the part before) */
+  int sky_first[EYE_BATCH]; /* the part looks the skylight up (else: as the part before) */
   int live; /* parts held */
 } eye_batch;
 
@@ -235,7 +235,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       for (int j = 0; j < nf; ++j) fields[j] = (float)(fields[j] * scale);
       beta = mean;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;
-      b->sky_t[live] = sky_shared ? sky_t : mid, b->sky_first[live] = (unsigned char)(sky_first || !sky_shared);
+      b->sky_t[live] = sky_shared ? sky_t : mid, b->sky_first[live] = sky_first || !sky_shared;
       sky_first = 0;
       live++;
     }

@@ -5,8 +5,6 @@
  * another grid is passed over and the load goes on. */
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
 
 #include "ncgen_file.h"
 #include "sl_storm.h"
