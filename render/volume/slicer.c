@@ -355,18 +355,19 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
 #pragma omp for schedule(static)
   for (size_t i = 0; i < n_light_tiles; ++i) sl__tile_range_from(&light_tiles, i, L.w, L.h, L.k_lo, L.k_hi, 1);
 
+#pragma omp single
+  f->barrier.team = omp_get_num_threads();
   for (int k = 0; k < nslices && r->any_extinction; ++k) {
     double t_start = 0.0;
 #pragma omp master
     t_start = omp_get_wtime();
-    int n_active, a_first, a_end;
+    int n_active, pos;
     const int *active_tiles = tiles_active(&eye_tiles, k, &n_active);
-    tiles_share(&eye_tiles, k, active_tiles, n_active, &a_first, &a_end);
-    for (int ai = a_first; ai < a_end; ++ai)
-      eye_pass_tile(f, nf, nwl, &L, light_di, light_dj, &sun_lane, &eye_tiles, k, (size_t)active_tiles[ai], &batch,
+    while (tiles_take(&eye_tiles, k, active_tiles, n_active, &pos))
+      eye_pass_tile(f, nf, nwl, &L, light_di, light_dj, &sun_lane, &eye_tiles, k, (size_t)active_tiles[pos], &batch,
                     &eye_samples);
     /* The light pass rewrites the buffer the eye pass reads. */
-#pragma omp barrier
+    slice_barrier_wait(&f->barrier);
 #pragma omp master
     {
       const double t_mid = omp_get_wtime();
@@ -374,10 +375,9 @@ static inline __attribute__((always_inline)) void slicer_passes(slicer_frame *f,
       t_start = t_mid;
     }
     active_tiles = tiles_active(&light_tiles, k, &n_active);
-    tiles_share(&light_tiles, k, active_tiles, n_active, &a_first, &a_end);
-    for (int ai = a_first; ai < a_end; ++ai)
-      light_pass_tile(f, nf, nwl, &L, &light_tiles, k, (size_t)active_tiles[ai], &light_samples);
-#pragma omp barrier
+    while (tiles_take(&light_tiles, k, active_tiles, n_active, &pos))
+      light_pass_tile(f, nf, nwl, &L, &light_tiles, k, (size_t)active_tiles[pos], &light_samples);
+    slice_barrier_wait(&f->barrier);
 #pragma omp master
     {
       f->light_seconds += omp_get_wtime() - t_start;
@@ -503,7 +503,8 @@ int sl__render_slicer(sl_renderer *r, const sl_camera *cam, const double fwd[3],
                     .sun_exit = sun_exit, .tan_half = tan_half, .aspect = aspect, .h_o = h_o, .hp = hp,
                     .inv_hp = inv_hp, .smin = smin, .ds = ds, .nslices = nslices, .back_to_front = back_to_front,
                     .texel_first = r->texel_spans.first, .texel_last = r->texel_spans.last,
-                    .texel_entry = r->texel_spans.u_entry, .spans_kept = spans_kept, .kink = kink};
+                    .texel_entry = r->texel_spans.u_entry, .spans_kept = spans_kept, .kink = kink,
+                    .barrier = SLICE_BARRIER_INIT};
   /* The entry march's step: one grid cell along the sunlight (the shortest axis's crossing). */
   f.entry_step = INFINITY;
   for (int a = 0; a < 3; ++a) {

@@ -7,6 +7,7 @@
 
 #include "renderer_internal.h"
 #include "sl_sample_physics.h"
+#include "slice_barrier.h"
 #include "tiles.h"
 #include "vector_math.h"
 
@@ -161,6 +162,7 @@ typedef struct slicer_frame {
   int nslices, back_to_front, wide_isa;
   long eye_samples, light_samples;
   double light_seconds, eye_seconds;
+  slice_barrier barrier; /* between the passes of a slice */
 } slicer_frame;
 
 /* The light buffer's lattice for a frame: axes perpendicular to the sunlight's propagation prop,

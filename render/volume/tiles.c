@@ -2,6 +2,7 @@
 #include "tiles.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 int sl__tiles_init(tile_ranges *t, int w, int h, int threads)
 {
@@ -9,10 +10,12 @@ int sl__tiles_init(tile_ranges *t, int w, int h, int threads)
   t->k = malloc((size_t)t->nx * t->ny * 2 * sizeof(int));
   t->active = malloc((size_t)t->nx * t->ny * threads * sizeof(int));
   t->work = malloc((size_t)t->nx * t->ny * 2 * sizeof(int));
-  return t->k != NULL && t->active != NULL && t->work != NULL;
+  t->claim = aligned_alloc(64, (size_t)threads * TILES_CLAIM_STRIDE * sizeof *t->claim);
+  if (t->claim) memset(t->claim, 0, (size_t)threads * TILES_CLAIM_STRIDE * sizeof *t->claim);
+  return t->k != NULL && t->active != NULL && t->work != NULL && t->claim != NULL;
 }
 
-void sl__tiles_free(tile_ranges *t) { free(t->k), free(t->active), free(t->work); }
+void sl__tiles_free(tile_ranges *t) { free(t->k), free(t->active), free(t->work), free(t->claim); }
 
 void sl__tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k_lo, const int *k_hi, size_t stride)
 {

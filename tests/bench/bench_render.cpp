@@ -110,32 +110,62 @@ Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep, boo
   return t;
 }
 
+// The median of a few timings.
+double median(std::vector<double> v)
+{
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0.0;
+}
+
 // What a user with another job on the machine sees: the slicer's frame and the light volume's eye
-// pass with 1 and 2 threads, idle and with a process spinning on one core (forked here), means
-// over `repeat` frames. The slicer meets a barrier per slice, which waits for a descheduled thread.
+// pass with 1 and 2 threads, idle and with a process spinning on one core (forked here). The
+// thread counts alternate frame by frame on one renderer, so that the VM's drift (a quarter within
+// minutes) falls on both alike; medians of `repeat` frames each. The slicer's threads meet twice
+// per slice, where a descheduled thread would hold up the other (tiles.h, slice_barrier.h).
 void contention(const sl_scene &slicer, const sl_scene &light_volume, int repeat)
 {
   const int threads = omp_get_max_threads();
+  sl_error err{};
+  sl_renderer *r[2] = {sl_renderer_create(&slicer, &err), sl_renderer_create(&light_volume, &err)};
+  if (!r[0] || !r[1]) {
+    std::fprintf(stderr, "bench_render: %s\n", err.message);
+    std::exit(1);
+  }
+  double lo[3], hi[3];
+  sl_renderer_content_bounds(r[0], lo, hi);
+  sl_camera cam;
+  sl_camera_frame(lo, hi, 200.0, 12.0, 40.0, 512, 512, &cam);
+  sl_image img;
+  sl_image_alloc(&img, 512, 512, &err);
+  for (int m = 0; m < 2; ++m) sl_renderer_render(r[m], &cam, &img, nullptr, &err);  // the light volume's sweep
   for (int busy = 0; busy < 2; ++busy) {
     const pid_t spinner = busy ? fork() : 0;
     if (busy && spinner == 0)
       for (volatile unsigned long spin = 0;; spin = spin + 1) {
       }
-    double frame[2], eye[2];
-    for (int n = 1; n <= 2; ++n) {
-      omp_set_num_threads(n);
-      frame[n - 1] = time_frames(slicer, 512, repeat, nullptr).frame_mean;
-      eye[n - 1] = time_frames(light_volume, 512, repeat, nullptr).eye_mean;
-    }
+    std::vector<double> t[2][2];  // [slicer frame, light-volume eye pass][threads - 1]
+    for (int k = 0; k < repeat; ++k)
+      for (int n = 1; n <= 2; ++n) {
+        omp_set_num_threads(n);
+        sl_render_stats st{};
+        const double t0 = sl::now_seconds();
+        sl_renderer_render(r[0], &cam, &img, &st, &err);
+        t[0][n - 1].push_back(sl::now_seconds() - t0);
+        sl_renderer_render(r[1], &cam, &img, &st, &err);
+        t[1][n - 1].push_back(st.eye_seconds);
+      }
     if (busy && spinner > 0) {
       kill(spinner, SIGKILL);
       waitpid(spinner, nullptr, 0);
     }
+    const double f1 = median(t[0][0]), f2 = median(t[0][1]), e1 = median(t[1][0]), e2 = median(t[1][1]);
     std::printf("%-14s slicer frame 1 thread %.3f s, 2 threads %.3f s (2/1 %.2f); light-volume eye pass 1 thread "
-                "%.3f s, 2 threads %.3f s (2/1 %.2f)\n",
-                busy ? "one core busy:" : "idle:", frame[0], frame[1], frame[1] / frame[0], eye[0], eye[1],
-                eye[1] / eye[0]);
+                "%.3f s, 2 threads %.3f s (2/1 %.2f); medians of %d alternated\n",
+                busy ? "one core busy:" : "idle:", f1, f2, f2 / f1, e1, e2, e2 / e1, repeat);
   }
+  sl_image_free(&img);
+  for (int m = 0; m < 2; ++m) sl_renderer_destroy(r[m]);
   omp_set_num_threads(threads);
 }
 
