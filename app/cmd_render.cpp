@@ -48,7 +48,7 @@ bool ends_with(const std::string &s, const std::string &suffix)
 
 }  // namespace
 
-static int render_main(int argc, char **argv);
+static int render_main(int argc, char **argv, sl::FrameKeep *keep = nullptr);
 
 int sl_cmd_render(int argc, char **argv)
 {
@@ -85,7 +85,7 @@ int sl_cmd_render(int argc, char **argv)
   return render_main((int)cargv.size(), cargv.data());
 }
 
-static int render_main(int argc, char **argv)
+static int render_main(int argc, char **argv, sl::FrameKeep *keep)
 {
   sl::Options o("render", "FILE [FILE...] --out frame.exr[,frame.png] [options]",
                 "Renders one time of a storm file with half-angle slicing (light buffer + eye buffer) and the\n"
@@ -231,7 +231,7 @@ static int render_main(int argc, char **argv)
       rc = sl::fail(cmd, display_error + " or pass --cpu-composite");
       goto done;
     }
-    if (!session.composite(cam, background, volume, &frame_img, terrain.get())) {
+    if (!session.composite(cam, background, volume, &frame_img, terrain.get(), keep ? &keep->window : nullptr)) {
       rc = sl::fail(cmd, "the VTK render window could not composite the frame (OpenGL float targets unavailable?)");
       goto done;
     }
@@ -326,6 +326,12 @@ static int render_main(int argc, char **argv)
     }
   }
   t_write = sl::now_seconds() - t0;
+  if (keep) {
+    keep->times.load = t_load, keep->times.setup = session.setup_seconds;
+    keep->times.draw = t_render;
+    keep->times.composite = t_composite;
+    keep->times.write = t_write;
+  }
   if (!quiet && !sun_note.empty()) std::printf("%s\n", sun_note.c_str());
   if (!quiet && terrain && !terrain->summary().empty()) std::printf("%s\n", terrain->summary().c_str());
   if (!quiet && stats.night) std::printf("night: the sun is below the horizon; this model gives no sunlight and no sky\n");

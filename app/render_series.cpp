@@ -87,7 +87,7 @@ void declare_series_options(Options &o)
   o.flag("series-frame", "(internal) one frame of a series: never a series itself");
 }
 
-int render_series(Options &o, int argc, char **argv, int (*render_frame)(int argc, char **argv))
+int render_series(Options &o, int argc, char **argv, int (*render_frame)(int argc, char **argv, FrameKeep *keep))
 {
   const std::string cmd = "render";
   if (o.has("series-frame")) return -1;
@@ -221,6 +221,13 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   };
   std::vector<int> mine;
   for (size_t j = ranks.rank(); j < pending.size(); j += ranks.size()) mine.push_back(pending[j]);
+  // Kept from frame to frame: VTK's compositing window; each frame's stages come back in it.
+  FrameKeep keep;
+  std::vector<FrameTimes> stages(series.size());
+  std::vector<double> walls(series.size(), 0.0);
+  FrameTimes sum;
+  double sum_wall = 0;
+  int timed = 0;
   for (size_t m = 0; m < mine.size(); ++m) {
     const int i = mine[m];
     const SeriesFrame &f = series[i];
@@ -242,13 +249,25 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     args.insert(args.end(), common.begin(), common.end());
     std::vector<char *> frame_argv;
     for (std::string &s : args) frame_argv.push_back(&s[0]);
+    keep.times = FrameTimes{};
     const double t0 = now_seconds();
-    const int rc = render_frame((int)frame_argv.size(), frame_argv.data());
+    const int rc = render_frame((int)frame_argv.size(), frame_argv.data(), &keep);
     const double seconds = now_seconds() - t0;
+    const FrameTimes &t = keep.times;
+    // What the frame cost beyond its stages: its set-up and whatever else each frame pays again.
+    const double other = seconds - (t.load + t.draw + t.composite + t.write);
+    if (!rc) {
+      stages[i] = t, walls[i] = seconds, ++timed, sum_wall += seconds;
+      sum.load += t.load, sum.setup += t.setup, sum.draw += t.draw, sum.composite += t.composite, sum.write += t.write;
+    }
     if (log_frames) {
-      std::printf("%sframe %d (%s time %d%s%s): %s %.2f s\n",
-                  ranks.parallel() ? ("[rank " + std::to_string(ranks.rank()) + "] ").c_str() : "", i, f.file.c_str(),
-                  f.time_index, f.time.empty() ? "" : ", ", f.time.c_str(), rc ? "FAILED" : outs.c_str(), seconds);
+      std::printf("%sframe %d (%s time %d%s%s): %s %.2f s", ranks.parallel() ? ("[rank " + std::to_string(ranks.rank()) + "] ").c_str() : "",
+                  i, f.file.c_str(), f.time_index, f.time.empty() ? "" : ", ", f.time.c_str(), rc ? "FAILED" : outs.c_str(),
+                  seconds);
+      if (!rc)
+        std::printf(" (load %.2f, draw %.2f, composite %.2f, write %.2f, other %.2f s of which set-up %.2f)", t.load,
+                    t.draw, t.composite, t.write, other, t.setup);
+      std::printf("\n");
       std::fflush(stdout);
     }
     if (rc) {
@@ -285,9 +304,18 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   }
   const int rendered = finished - failed;
   if (failed) fail(cmd, std::to_string(failed) + " of " + std::to_string(pending.size()) + " frames failed");
-  if (!quiet)
-    std::printf("series: rendered %d frames in %.2f s (%.2f s per frame on one rank)\n", rendered, wall,
-                rendered ? frame_seconds / rendered : 0.0);
+  // Per frame, over this rank's frames: the draw (light and eye passes) against all else it paid.
+  const double other = timed ? (sum_wall - sum.load - sum.draw - sum.composite - sum.write) / timed : 0.0;
+  const double per_draw = timed ? sum.draw / timed : 0.0;
+  if (!quiet) {
+    std::printf("series: rendered %d frames in %.2f s (%.2f s per frame on one rank, %.1f frames per minute)\n",
+                rendered, wall, rendered ? frame_seconds / rendered : 0.0, wall > 0 ? 60.0 * rendered / wall : 0.0);
+    if (timed)
+      std::printf("series: per frame load %.3f s, draw %.3f s, composite %.3f s, write %.3f s, other %.3f s "
+                  "(set-up %.3f s): %.0f %% of the draw besides load, composite and write\n",
+                  sum.load / timed, per_draw, sum.composite / timed, sum.write / timed, other, sum.setup / timed,
+                  per_draw > 0 ? 100.0 * other / per_draw : 0.0);
+  }
   if (json) {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "frames", (double)chosen.size());
@@ -299,6 +327,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     cJSON_AddNumberToObject(root, "threads_per_rank", ranks.parallel() && set_threads ? threads : 0);
     cJSON_AddNumberToObject(root, "seconds", wall);
     cJSON_AddNumberToObject(root, "seconds_per_frame", rendered ? frame_seconds / rendered : 0.0);
+    cJSON_AddNumberToObject(root, "frames_per_minute", wall > 0 ? 60.0 * rendered / wall : 0.0);
     if (!movie_note.empty()) cJSON_AddStringToObject(root, "movie", movie_note.c_str());
     if (!origin.empty()) cJSON_AddItemToObject(root, "origin", cJSON_CreateDoubleArray(origin_ll, 2));
     cJSON *list = cJSON_AddArrayToObject(root, "series");
@@ -309,6 +338,16 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
       cJSON_AddNumberToObject(f, "time_index", series[i].time_index);
       cJSON_AddStringToObject(f, "time", series[i].time.c_str());
       cJSON_AddBoolToObject(f, "skipped", complete[i]);
+      if (walls[i] > 0) {  // rendered here (on the lead rank), with its stages
+        const FrameTimes &t = stages[i];
+        cJSON *st = cJSON_AddObjectToObject(f, "seconds");
+        cJSON_AddNumberToObject(st, "frame", walls[i]);
+        cJSON_AddNumberToObject(st, "load", t.load);
+        cJSON_AddNumberToObject(st, "setup", t.setup);
+        cJSON_AddNumberToObject(st, "draw", t.draw);
+        cJSON_AddNumberToObject(st, "composite", t.composite);
+        cJSON_AddNumberToObject(st, "write", t.write);
+      }
       if (!path.keys.empty()) {
         const CameraAt c = camera_path_at(path, path.by_date ? series[i].julian_day : (double)i);
         cJSON *cam = cJSON_AddObjectToObject(f, "camera");

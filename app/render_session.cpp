@@ -25,13 +25,56 @@ void progress_hook(void *user, double fraction) { static_cast<Progress *>(user)-
 
 }  // namespace
 
+struct CompositeWindow::Impl {
+  vtkSmartPointer<vtkRenderWindow> window;
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<CompositePass> pass;
+  vtkNew<vtkRenderStepsPass> steps;
+};
+
+CompositeWindow::CompositeWindow() : impl_(new Impl) {}
+CompositeWindow::~CompositeWindow() = default;
+
+bool CompositeWindow::composite(const sl_camera &cam, const sl_image &background, const sl_image &volume,
+                                sl_image *out, const TerrainScene *terrain)
+{
+  Impl &p = *impl_;
+  if (!p.window) {
+    p.window = offscreen_window(cam.width, cam.height);
+    p.window->AddRenderer(p.renderer);
+    p.pass->SetDelegatePass(p.steps);
+    p.renderer->SetPass(p.pass);
+  } else {
+    p.window->SetSize(cam.width, cam.height);
+  }
+  // This frame's props: the last frame's terrain (another time of a series) is not this one's.
+  p.renderer->RemoveAllViewProps();
+  if (terrain) terrain->add_props(p.renderer);
+  vtkCamera *camera = p.renderer->GetActiveCamera();
+  camera->SetPosition(cam.position);
+  camera->SetFocalPoint(cam.target);
+  camera->SetViewUp(cam.up);
+  camera->SetViewAngle(cam.fov_deg);
+  double distance = 0.0;
+  for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
+  distance = std::sqrt(distance);
+  camera->SetClippingRange(std::max(1.0, 1e-3 * distance), 1e3 * distance);
+  p.pass->SetLayers(cam.width, cam.height, background.rgba, volume.rgba, volume.depth);
+  p.window->Render();
+  const std::vector<float> &px = p.pass->Result();
+  if (!p.pass->Succeeded() || px.size() != (size_t)cam.width * cam.height * 4) return false;
+  for (size_t i = 0; i < px.size(); ++i) out->rgba[i] = px[i];
+  for (size_t i = 0; i < (size_t)cam.width * cam.height; ++i) {
+    out->rgba[4 * i + 3] = volume.rgba[4 * i + 3];
+    out->depth[i] = volume.depth[i];
+  }
+  return true;
+}
+
 struct RenderSession::Parts {
   std::unique_ptr<Progress> progress;
   GpuVolumeDrawer gpu;
-  vtkSmartPointer<vtkRenderWindow> composite_window;
-  vtkNew<vtkRenderer> composite_renderer;
-  vtkNew<CompositePass> composite_pass;
-  vtkNew<vtkRenderStepsPass> composite_steps;
+  CompositeWindow window;
 };
 
 RenderSession::RenderSession() : parts_(new Parts) {}
@@ -52,6 +95,7 @@ bool RenderSession::prepare(const sl_settings &s, bool quiet, std::string *why, 
   build.for_gpu = for_gpu;
   build.tables_progress = progress_hook, build.tables_progress_user = &table_progress;
   build.render_progress = progress_hook, build.render_progress_user = parts_->progress.get();
+  const double t0 = now_seconds();
   const int rc = sl_scene_build(&settings, &build, &built, &err);
   table_progress.done();
   if (rc) {
@@ -59,6 +103,7 @@ bool RenderSession::prepare(const sl_settings &s, bool quiet, std::string *why, 
     return false;
   }
   load_seconds = built.load_seconds;
+  setup_seconds = now_seconds() - t0 - load_seconds;
   sun_elevation_deg = built.sun_elevation_deg, sun_azimuth_deg = built.sun_azimuth_deg;
   if (built.sun_from_time) {
     const sl_utc &d = built.sun_time;
@@ -132,37 +177,9 @@ bool RenderSession::draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_im
 }
 
 bool RenderSession::composite(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
-                              const TerrainScene *terrain)
+                              const TerrainScene *terrain, CompositeWindow *window)
 {
-  Parts &p = *parts_;
-  if (!p.composite_window) {
-    p.composite_window = offscreen_window(cam.width, cam.height);
-    p.composite_window->AddRenderer(p.composite_renderer);
-    p.composite_pass->SetDelegatePass(p.composite_steps);
-    p.composite_renderer->SetPass(p.composite_pass);
-    if (terrain) terrain->add_props(p.composite_renderer);
-  } else {
-    p.composite_window->SetSize(cam.width, cam.height);
-  }
-  vtkCamera *camera = p.composite_renderer->GetActiveCamera();
-  camera->SetPosition(cam.position);
-  camera->SetFocalPoint(cam.target);
-  camera->SetViewUp(cam.up);
-  camera->SetViewAngle(cam.fov_deg);
-  double distance = 0.0;
-  for (int a = 0; a < 3; ++a) distance += (cam.target[a] - cam.position[a]) * (cam.target[a] - cam.position[a]);
-  distance = std::sqrt(distance);
-  camera->SetClippingRange(std::max(1.0, 1e-3 * distance), 1e3 * distance);
-  p.composite_pass->SetLayers(cam.width, cam.height, background.rgba, volume.rgba, volume.depth);
-  p.composite_window->Render();
-  const std::vector<float> &px = p.composite_pass->Result();
-  if (!p.composite_pass->Succeeded() || px.size() != (size_t)cam.width * cam.height * 4) return false;
-  for (size_t i = 0; i < px.size(); ++i) out->rgba[i] = px[i];
-  for (size_t i = 0; i < (size_t)cam.width * cam.height; ++i) {
-    out->rgba[4 * i + 3] = volume.rgba[4 * i + 3];
-    out->depth[i] = volume.depth[i];
-  }
-  return true;
+  return (window ? window : &parts_->window)->composite(cam, background, volume, out, terrain);
 }
 
 bool write_frame(const std::string &path, const sl_camera &cam, const sl_image &frame, const double sun_direction[3],

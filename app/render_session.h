@@ -21,6 +21,23 @@ namespace sl {
 
 class TerrainScene;
 
+// VTK's compositing window: the background, VTK's props (terrain, map layers) and the volume in a
+// float framebuffer, the frame read back (alpha and depth are the volume's). Opened on its first
+// frame and kept: a session's frames share it, and a series' (FrameKeep) all of theirs.
+class CompositeWindow {
+ public:
+  CompositeWindow();
+  ~CompositeWindow();
+  CompositeWindow(const CompositeWindow &) = delete;
+  CompositeWindow &operator=(const CompositeWindow &) = delete;
+  bool composite(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
+                 const TerrainScene *terrain);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 class RenderSession {
  public:
   RenderSession();
@@ -49,9 +66,10 @@ class RenderSession {
   bool draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_image *background, sl_render_stats *stats,
             bool *gpu_done, std::string *gpu_note, std::string *why);
   // Composites background, VTK's props (terrain) and the volume in VTK's float framebuffer and
-  // reads the frame back (alpha and depth are the volume's).
+  // reads the frame back (alpha and depth are the volume's): in window where given (a series'
+  // kept one), else in the session's own.
   bool composite(const sl_camera &cam, const sl_image &background, const sl_image &volume, sl_image *out,
-                 const TerrainScene *terrain);
+                 const TerrainScene *terrain, CompositeWindow *window = nullptr);
 
   sl_settings settings{};  // what prepare read
   sl_built_scene built{};  // the storm, its sun, the air, the tables, the scene and the renderer
@@ -61,6 +79,7 @@ class RenderSession {
   double sun_elevation_deg = 0, sun_azimuth_deg = 0;  // compass
   std::string sun_note;                               // where the sun came from, when from a date
   double load_seconds = 0;
+  double setup_seconds = 0;  // the rest of prepare: the air, the tables, the renderer
 
  private:
   struct Parts;

@@ -21,6 +21,15 @@ check "4 EXR and 4 PNG frames" bash -c "[ \$(ls '$work'/a/k_000[0-3].exr '$work'
 check "the movie has 4 frames (ffprobe)" bash -c "[ \"\$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 '$work/a/katrina.mp4')\" = 4 ]"
 check "no temporary files left" bash -c "! ls -A '$work/a' | grep -q '\\.tmp\$'"
 check "the frames differ in time (the sun moves, the storm moves)" bash -c "! cmp -s '$work/a/k_0000.exr' '$work/a/k_0003.exr'"
+# Each frame's stages (load, draw, composite, write) are parts of its time, set-up a part of the
+# rest; the frames per minute are the frames over the series' wall time.
+check "each frame's stages add up to no more than its time" /usr/bin/python3 -c "
+import json, sys
+d = json.load(open('$work/a.json'))
+t = [f['seconds'] for f in d['series']]
+ok = len(t) == 4 and all(0 < s['draw'] and 0 <= s['setup'] and s['load'] + s['draw'] + s['composite'] + s['write'] + s['setup'] <= s['frame'] for s in t)
+ok = ok and abs(d['frames_per_minute'] - 60 * d['rendered'] / d['seconds']) < 1e-6 * d['frames_per_minute']
+sys.exit(0 if ok else 1)"
 
 # A series keeps one world frame (the first frame's centre, where the reader has --origin): the
 # single renders below are given the same one.
