@@ -112,24 +112,36 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   /* The loop below writes every field of every sample; zeroed here only the padding (and the
    * whole array without fields), not 268 MB at 256^3 that the loop then overwrites. */
   memset(r->fields + (size_t)nf * count, 0, field_bytes - (size_t)nf * count * sizeof(float));
+  /* In parallel: at 1000 x 1000 x 160 samples this loop, and the first touch of the pages it
+   * writes, took 9 s of one core. The first bad sample (the least index) is the one reported. */
+  size_t bad = count;
+  int bad_field = 0;
+  double beta_max = 0.0;
+  int any = 0;
+#pragma omp parallel for schedule(static) reduction(max : beta_max) reduction(| : any)
   for (size_t i = 0; i < count; ++i) {
     double total = 0.0;
     for (int j = 0; j < nf; ++j) {
       const float eta = scene->volume->eta[r->model.slot[j]][i];
       if (!(eta >= 0.0f) || !isfinite(eta)) {
-        sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
-                sl_particle_name(r->model.field[j]), i);
-        sl_renderer_destroy(r);
-        return NULL;
+#pragma omp critical(sl_renderer_bad_sample)
+        if (i < bad) bad = i, bad_field = j;
       }
       const double b = eta * r->model.sigma_ext[j];
       r->fields[i * nf + j] = (float)b;
       total += b;
     }
     r->beta[i] = (float)total;
-    if (total > r->beta_max) r->beta_max = total;
-    if (total > 0.0) r->any_extinction = 1;
+    if (total > beta_max) beta_max = total;
+    any |= total > 0.0;
   }
+  if (bad < count) {
+    sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
+            sl_particle_name(r->model.field[bad_field]), bad);
+    sl_renderer_destroy(r);
+    return NULL;
+  }
+  r->beta_max = beta_max, r->any_extinction = any;
   if (sl__bricks_build(r, err)) {
     sl_renderer_destroy(r);
     return NULL;
