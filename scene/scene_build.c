@@ -223,12 +223,17 @@ void sl_scene_camera(const sl_settings *s, const sl_volume *v, const double lo[3
 {
   const int given = sl_settings_given(s, "view-azimuth") || sl_settings_given(s, "view-elevation") ||
                     sl_settings_given(s, "camera-position") || sl_settings_given(s, "camera-target");
-  double clo[3], chi[3], core_lo[3], core_hi[3];
-  if (!given && v && sl_volume_condensate_bounds(v, SL_CHASER_TAU, SL_CHASER_BETA, clo, chi)) {
+  /* The storm's box (columns of optical depth SL_CHASER_TAU) and its core's, from one pass. */
+  const double taus[2] = {SL_CHASER_TAU, SL_CHASER_CORE_TAU};
+  double box_lo[2][3], box_hi[2][3];
+  int found[2];
+  if (!given && v && sl_volume_condensate_boxes(v, 2, taus, SL_CHASER_BETA, box_lo, box_hi, found) && found[0]) {
+    double clo[3], chi[3];
+    for (int a = 0; a < 3; ++a) clo[a] = box_lo[0][a], chi[a] = box_hi[0][a];
     /* The width framed is the core's (a thin anvil may run off the sides), the height the whole
      * storm's. */
-    if (sl_volume_condensate_bounds(v, SL_CHASER_CORE_TAU, SL_CHASER_BETA, core_lo, core_hi))
-      for (int a = 0; a < 2; ++a) clo[a] = core_lo[a], chi[a] = core_hi[a];
+    if (found[1])
+      for (int a = 0; a < 2; ++a) clo[a] = box_lo[1][a], chi[a] = box_hi[1][a];
     /* A storm chaser: on the ground, the sun over the left shoulder (30 degrees round from behind,
      * so that the faces it lights show relief), looking back at the storm and a little up. */
     const double sun_azimuth = sun[2] > 0.0 ? atan2(sun[0], sun[1]) * 180.0 / M_PI : 170.0;

@@ -67,7 +67,7 @@ void sl_built_scene_free(sl_built_scene *b);
 
 /* The camera as render frames it. With none of view-azimuth, view-elevation, camera-position and
  * camera-target given: a storm chaser's view (sl_camera_chaser) of v's condensate (the columns of
- * vertical optical depth SL_CHASER_TAU or more, sl_volume_condensate_bounds) from SL_CHASER_EYE_M
+ * vertical optical depth SL_CHASER_TAU or more, sl_volume_condensate_boxes) from SL_CHASER_EYE_M
  * above the grid's ground (or sea level), from the compass direction of the sun (unit vector sun,
  * the volume's axes) turned SL_CHASER_SUN_OFFSET_DEG; at night, without such columns, or for a
  * storm too wide to frame from the ground (a deck, a hurricane), the orbit below. Otherwise: the content bounds lo..hi (sl_renderer_content_bounds, or the reference

@@ -8,8 +8,10 @@
 #include "sl_particles.h"
 #include "sl_volume.h"
 
-int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_min, double lo[3], double hi[3])
+int sl_volume_condensate_boxes(const sl_volume *v, int n, const double *tau_min, double beta_min, double (*lo)[3],
+                               double (*hi)[3], int *found)
 {
+  for (int b = 0; b < n; ++b) found[b] = 0;
   /* The fields present, each with its cross-section (eq. 2's beta = eta sigma). */
   const float *field[SL_VOLUME_SLOTS];
   double sigma[SL_VOLUME_SLOTS];
@@ -61,23 +63,27 @@ int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_
     free(tau), free(k_lo), free(k_hi);
     return 0;
   }
-  int found = 0, box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
-  for (int j = 0; j < v->ny; ++j)
-    for (int i = 0; i < v->nx; ++i) {
-      const size_t c = (size_t)j * v->nx + i;
-      if (!(tau[c] >= tau_min) || k_lo[c] < 0) continue;
-      const int at[3][2] = {{i, i}, {j, j}, {k_lo[c], k_hi[c]}};
-      for (int a = 0; a < 3; ++a) {
-        if (!found || at[a][0] < box_lo[a]) box_lo[a] = at[a][0];
-        if (!found || at[a][1] > box_hi[a]) box_hi[a] = at[a][1];
+  /* Each threshold's box from the same column sums. */
+  int any = 0;
+  for (int b = 0; b < n; ++b) {
+    int box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
+    for (int j = 0; j < v->ny; ++j)
+      for (int i = 0; i < v->nx; ++i) {
+        const size_t c = (size_t)j * v->nx + i;
+        if (!(tau[c] >= tau_min[b]) || k_lo[c] < 0) continue;
+        const int at[3][2] = {{i, i}, {j, j}, {k_lo[c], k_hi[c]}};
+        for (int a = 0; a < 3; ++a) {
+          if (!found[b] || at[a][0] < box_lo[a]) box_lo[a] = at[a][0];
+          if (!found[b] || at[a][1] > box_hi[a]) box_hi[a] = at[a][1];
+        }
+        found[b] = 1;
       }
-      found = 1;
+    for (int a = 0; a < 3 && found[b]; ++a) {
+      lo[b][a] = v->origin[a] + (box_lo[a] - 0.5) * v->spacing[a];
+      hi[b][a] = v->origin[a] + (box_hi[a] + 0.5) * v->spacing[a];
     }
-  free(tau), free(k_lo), free(k_hi);
-  if (!found) return 0;
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = v->origin[a] + (box_lo[a] - 0.5) * v->spacing[a];
-    hi[a] = v->origin[a] + (box_hi[a] + 0.5) * v->spacing[a];
+    any |= found[b];
   }
-  return 1;
+  free(tau), free(k_lo), free(k_hi);
+  return any;
 }

@@ -56,11 +56,14 @@ static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)
 }
 /* Axis-aligned box covered by the cells: samples sit at cell centres. */
 void sl_volume_bounds(const sl_volume *v, double lo[3], double hi[3]);
-/* The box around the storm's condensate: the columns whose vertical optical depth (Table 2's
- * cross-sections) reaches tau_min, and within them the samples whose extinction reaches
- * beta_min (m^-1). Returns 0 (lo, hi untouched) when no column does (or its column sums find no
- * memory). */
-int sl_volume_condensate_bounds(const sl_volume *v, double tau_min, double beta_min, double lo[3], double hi[3]);
+/* The boxes around the storm's condensate, one per threshold tau_min[b], from one pass over the
+ * fields (it reads every sample of every field: seconds at 10^8 samples): the columns whose
+ * vertical optical depth (Table 2's cross-sections) reaches tau_min[b], and within them the
+ * samples whose extinction reaches beta_min (m^-1); box b in lo[b], hi[b] where found[b] (no column
+ * reaches it: 0, its box untouched). Returns whether any was found (0 also when the column sums
+ * find no memory). */
+int sl_volume_condensate_boxes(const sl_volume *v, int n, const double *tau_min, double beta_min, double (*lo)[3],
+                               double (*hi)[3], int *found);
 
 /* A scalar field on the same lattice, sampled trilinearly between cell centres and clamped to
  * the outer cell centres inside the box; zero outside the box. */
