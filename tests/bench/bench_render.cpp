@@ -9,7 +9,7 @@
 // --termination the eye's termination transparency (1e-6, as stormlight render): the knobs whose
 // speed and image cost docs/PERFORMANCE.md measures. The 3-wavelength 512^2 frame is written to
 // /tmp/bench_render.exr for 'stormlight compare'. --contention adds the 3-wavelength 512^2 frame
-// and the light volume's eye pass at 1 and 2 threads, idle and with a process spinning on one core.
+// and the light volume's eye pass at 1 and 2 threads, idle and with one and two processes spinning.
 #include <omp.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -119,7 +119,7 @@ double median(std::vector<double> v)
 }
 
 // What a user with another job on the machine sees: the slicer's frame and the light volume's eye
-// pass with 1 and 2 threads, idle and with a process spinning on one core (forked here). The
+// pass with 1 and 2 threads, idle and with one and two processes spinning (forked here). The
 // thread counts alternate frame by frame on one renderer, so that the VM's drift (a quarter within
 // minutes) falls on both alike; medians of `repeat` frames each. The slicer's threads meet twice
 // per slice, where a descheduled thread would hold up the other (tiles.h, slice_barrier.h).
@@ -139,11 +139,13 @@ void contention(const sl_scene &slicer, const sl_scene &light_volume, int repeat
   sl_image img;
   sl_image_alloc(&img, 512, 512, &err);
   for (int m = 0; m < 2; ++m) sl_renderer_render(r[m], &cam, &img, nullptr, &err);  // the light volume's sweep
-  for (int busy = 0; busy < 2; ++busy) {
-    const pid_t spinner = busy ? fork() : 0;
-    if (busy && spinner == 0)
-      for (volatile unsigned long spin = 0;; spin = spin + 1) {
-      }
+  // 0, 1 and 2 other processes spinning: a second core busy, then more runnable work than cores.
+  for (int busy = 0; busy <= 2; ++busy) {
+    pid_t spinner[2] = {0, 0};
+    for (int p = 0; p < busy; ++p)
+      if ((spinner[p] = fork()) == 0)
+        for (volatile unsigned long spin = 0;; spin = spin + 1) {
+        }
     std::vector<double> t[2][2];  // [slicer frame, light-volume eye pass][threads - 1]
     for (int k = 0; k < repeat; ++k)
       for (int n = 1; n <= 2; ++n) {
@@ -155,14 +157,16 @@ void contention(const sl_scene &slicer, const sl_scene &light_volume, int repeat
         sl_renderer_render(r[1], &cam, &img, &st, &err);
         t[1][n - 1].push_back(st.eye_seconds);
       }
-    if (busy && spinner > 0) {
-      kill(spinner, SIGKILL);
-      waitpid(spinner, nullptr, 0);
-    }
+    for (int p = 0; p < busy; ++p)
+      if (spinner[p] > 0) {
+        kill(spinner[p], SIGKILL);
+        waitpid(spinner[p], nullptr, 0);
+      }
     const double f1 = median(t[0][0]), f2 = median(t[0][1]), e1 = median(t[1][0]), e2 = median(t[1][1]);
     std::printf("%-14s slicer frame 1 thread %.3f s, 2 threads %.3f s (2/1 %.2f); light-volume eye pass 1 thread "
                 "%.3f s, 2 threads %.3f s (2/1 %.2f); medians of %d alternated\n",
-                busy ? "one core busy:" : "idle:", f1, f2, f2 / f1, e1, e2, e2 / e1, repeat);
+                busy == 0 ? "idle:" : busy == 1 ? "one core busy:" : "two processes:", f1, f2, f2 / f1, e1, e2,
+                e2 / e1, repeat);
   }
   sl_image_free(&img);
   for (int m = 0; m < 2; ++m) sl_renderer_destroy(r[m]);
