@@ -224,10 +224,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   // Kept from frame to frame: VTK's compositing window; each frame's stages come back in it.
   FrameKeep keep;
   std::vector<FrameTimes> stages(series.size());
-  std::vector<double> walls(series.size(), 0.0);
-  FrameTimes sum;
-  double sum_wall = 0;
-  int timed = 0;
+  std::vector<double> walls(series.size(), 0.0);  // > 0: rendered here, with its stages
   for (size_t m = 0; m < mine.size(); ++m) {
     const int i = mine[m];
     const SeriesFrame &f = series[i];
@@ -256,10 +253,7 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
     const FrameTimes &t = keep.times;
     // What the frame cost beyond its stages: its set-up and whatever else each frame pays again.
     const double other = seconds - (t.load + t.draw + t.composite + t.write);
-    if (!rc) {
-      stages[i] = t, walls[i] = seconds, ++timed, sum_wall += seconds;
-      sum.load += t.load, sum.setup += t.setup, sum.draw += t.draw, sum.composite += t.composite, sum.write += t.write;
-    }
+    if (!rc) stages[i] = t, walls[i] = seconds;
     if (log_frames) {
       std::printf("%sframe %d (%s time %d%s%s): %s %.2f s", ranks.parallel() ? ("[rank " + std::to_string(ranks.rank()) + "] ").c_str() : "",
                   i, f.file.c_str(), f.time_index, f.time.empty() ? "" : ", ", f.time.c_str(), rc ? "FAILED" : outs.c_str(),
@@ -304,7 +298,17 @@ int render_series(Options &o, int argc, char **argv, int (*render_frame)(int arg
   }
   const int rendered = finished - failed;
   if (failed) fail(cmd, std::to_string(failed) + " of " + std::to_string(pending.size()) + " frames failed");
-  // Per frame, over this rank's frames: the draw (light and eye passes) against all else it paid.
+  // Per frame, over the frames rendered here: the draw (its passes, the resolve and the sky)
+  // against all else a frame paid besides its load, composite and write.
+  FrameTimes sum;
+  double sum_wall = 0;
+  int timed = 0;
+  for (size_t i = 0; i < series.size(); ++i)
+    if (walls[i] > 0) {
+      const FrameTimes &t = stages[i];
+      sum_wall += walls[i], ++timed;
+      sum.load += t.load, sum.setup += t.setup, sum.draw += t.draw, sum.composite += t.composite, sum.write += t.write;
+    }
   const double other = timed ? (sum_wall - sum.load - sum.draw - sum.composite - sum.write) / timed : 0.0;
   const double per_draw = timed ? sum.draw / timed : 0.0;
   if (!quiet) {

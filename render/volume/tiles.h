@@ -18,7 +18,7 @@ typedef struct tile_ranges {
   int nx, ny;
   int *k;      /* per tile: first and last active slice (first > last: never active) */
   int *active; /* per thread, room for a list of every tile (tiles_active) */
-  int *work;   /* two per tile: its cost in a slice it had work (tile_cost; tiles_share): slice k's
+  int *work;   /* two per tile: its cost in a slice it had work (tile_cost; tiles_run): slice k's
                   cuts read row k % 2 while its tiles write row (k + 1) % 2, so that no thread's
                   cut sees another's writes of the same slice */
   unsigned long long *claim; /* per thread, its run of the slice's tiles (tiles_take) */
@@ -32,7 +32,7 @@ void sl__tiles_free(tile_ranges *t);
 void sl__tile_range_from(tile_ranges *t, size_t i, int w, int h, const int *k_lo, const int *k_hi, size_t stride);
 
 /* The tiles whose range holds slice k, in order, in the calling thread's own list (returned).
- * Every thread builds the same list (no barrier), and shares it out with tiles_share. */
+ * Every thread builds the same list (no barrier), and shares it out with tiles_take. */
 static inline int *tiles_active(const tile_ranges *t, int k, int *count)
 {
   const size_t n = (size_t)t->nx * t->ny;
