@@ -75,6 +75,11 @@ const sl_option sl_settings_options[] = {
      "with --light-volume or --gpu: eye samples per grid cell along a ray, 1..8 (fewer is\n"
      "faster and coarser on thick cloud surfaces; docs/ACCURACY.md)",
      "2", SL_OPTION_INT, 1, 8, NULL, NULL, AT(march_samples), NULL},
+    {"march-thin-depth", "T",
+     "with --light-volume: where two or four steps through a thin brick add up to at most this optical\n"
+     "depth, take them as one (fewer samples through thin anvils, rain and haze; docs/ACCURACY.md,\n"
+     "\"Thin steps\"); 0: every step",
+     "0", SL_OPTION_NUMBER, 0, 1, NULL, NULL, AT(march_thin_depth), NULL},
     {"skylight", "on|off",
      "the sky dome's light scattered by the volume too (shadowed faces lit blue, a dark base over\n"
      "a dark ground; docs/ACCURACY.md, \"Skylight\"), or the sun alone (the paper's model)",

@@ -40,6 +40,7 @@ typedef struct sl_settings {
   int diffuse_sunlight;              /* sunlight diffused through the cloud (sl_scene.diffuse_sunlight) */
   double ground_albedo;              /* the flat ground under the storm (sl_scene.ground_albedo) */
   int march_samples;
+  double march_thin_depth;           /* sl_scene.march_thin_depth */
   int no_atmosphere;
   double camera_position[3], camera_target[3]; /* given: "camera-position", "camera-target" */
   double view_azimuth_deg, view_elevation_deg, fov_deg;

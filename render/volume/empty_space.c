@@ -16,19 +16,23 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
   for (int a = 0; a < 3; ++a) r->bricks[a] = (n[a] + 7) / 8;
   const size_t bricks = (size_t)r->bricks[0] * r->bricks[1] * r->bricks[2];
   r->empty_radius = malloc(bricks);
-  if (!r->empty_radius) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
+  r->brick_beta_max = calloc(bricks, sizeof(float));
+  if (!r->empty_radius || !r->brick_beta_max) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
   memset(r->empty_radius, 1, bricks);
   for (int k = 0; k < v->nz; ++k)
     for (int j = 0; j < v->ny; ++j)
       for (int i = 0; i < v->nx; ++i) {
-        if (!(r->beta[sl_volume_index(v, i, j, k)] > 0.0f)) continue;
+        const float beta = r->beta[sl_volume_index(v, i, j, k)];
+        if (!(beta > 0.0f)) continue;
         /* A sample feeds the trilinear cells whose lower corner is itself or one below it. */
         for (int dk = -1; dk <= 0; ++dk)
           for (int dj = -1; dj <= 0; ++dj)
             for (int di = -1; di <= 0; ++di) {
               const int ii = i + di, jj = j + dj, kk = k + dk;
               if (ii < 0 || jj < 0 || kk < 0) continue;
-              r->empty_radius[((size_t)(kk / 8) * r->bricks[1] + jj / 8) * r->bricks[0] + ii / 8] = 0;
+              const size_t b = ((size_t)(kk / 8) * r->bricks[1] + jj / 8) * r->bricks[0] + ii / 8;
+              r->empty_radius[b] = 0;
+              if (beta > r->brick_beta_max[b]) r->brick_beta_max[b] = beta;
             }
       }
   sl__brick_empty_radius(r->bricks, r->empty_radius);

@@ -147,27 +147,61 @@ typedef struct march_batch {
   lv_cell p_cell[MARCH_POINTS];
   sl__field_cell cell[MARCH_BATCH];
   float fields[MARCH_BATCH][SL_MAX_FIELDS];
-  int step[MARCH_BATCH], start[MARCH_BATCH], end[MARCH_BATCH];
+  double dt[MARCH_BATCH];
+  int step[MARCH_BATCH], len[MARCH_BATCH], start[MARCH_BATCH], end[MARCH_BATCH];
   int live;
   double carried[SL_MAX_WAVELENGTHS + 1];
-  int carried_step;
+  int carried_end; /* the step index where the previous batch's last step ended */
 } march_batch;
+
+/* The longest step, in steps of dt, that the march may take from step s (sl_scene.march_thin_depth):
+ * 1, or a step of 2 or 4 that starts on a multiple of itself (so neighbouring rays' samples stay on
+ * one lattice) and lies inside one brick whose largest extinction gives it at most thin_depth of
+ * optical depth: there the medium is thin throughout, and one sample at the middle stands for the
+ * two or four. */
+#define MARCH_THIN_LONGEST 4
+static inline __attribute__((always_inline)) int march_step_length(const sl_renderer *r, const double o[3],
+                                                                   const double d[3], double t0, double dt,
+                                                                   int nsteps, int s, double thin_depth)
+{
+  if (!(thin_depth > 0.0) || s % 2) return 1;
+  const sl_grid_view *g = &r->beta_view;
+  const double ts = t0 + s * dt;
+  const double xs[3] = {o[0] + ts * d[0], o[1] + ts * d[1], o[2] + ts * d[2]};
+  int is[3];
+  double f[3];
+  sl__lattice_cell(g, xs, is, f);
+  const size_t brick = ((size_t)(is[2] / 8) * r->bricks[1] + is[1] / 8) * r->bricks[0] + is[0] / 8;
+  const double beta_max = r->brick_beta_max[brick];
+  for (int len = MARCH_THIN_LONGEST; len > 1; len /= 2) {
+    if (s % len || s + len > nsteps || beta_max * len * dt > thin_depth) continue;
+    const double te = ts + len * dt;
+    const double xe[3] = {o[0] + te * d[0], o[1] + te * d[1], o[2] + te * d[2]};
+    int ie[3];
+    sl__lattice_cell(g, xe, ie, f);
+    if (ie[0] / 8 == is[0] / 8 && ie[1] / 8 == is[1] / 8 && ie[2] / 8 == is[2] / 8) return len;
+  }
+  return 1;
+}
 
 /* The ray's next steps from *s in occupied bricks, up to `size`, their cells prefetched; empty
  * bricks jumped (every step whose midpoint lies before a brick's exit samples nothing). Then their
  * fields; the steps with medium stay, in b->live. */
 static inline __attribute__((always_inline)) void march_batch_steps(const sl_renderer *r, const int nf,
                                                                     const double o[3], const double d[3], double t0,
-                                                                    double dt, int nsteps, int size, int *s,
-                                                                    march_batch *b, long *samples)
+                                                                    double dt, int nsteps, double thin_depth,
+                                                                    int size, int *s, march_batch *b, long *samples)
 {
   int cnt = 0;
   while (cnt < size && *s < nsteps) {
-    const double tm = t0 + *s * dt + 0.5 * dt;
+    const int len = march_step_length(r, o, d, t0, dt, nsteps, *s, thin_depth);
+    const double tm = t0 + *s * dt + 0.5 * len * dt;
     const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
     (*samples)++;
     if (sl__field_cell_at(r, nf, x, 1, &b->cell[cnt])) {
-      b->step[cnt++] = (*s)++;
+      b->len[cnt] = len;
+      b->step[cnt++] = *s;
+      *s += len;
       continue;
     }
     /* Outside the cell lattice's box (in an occupied brick's clamp) every field is zero. */
@@ -183,8 +217,9 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     for (int j = 0; j < nf; ++j) beta += v[j];
     if (!(beta > 0.0)) continue;
     for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
-    b->beta[live] = beta, b->step[live] = b->step[i];
-    b->tm[live] = t0 + b->step[i] * dt + 0.5 * dt;
+    b->beta[live] = beta, b->step[live] = b->step[i], b->len[live] = b->len[i];
+    b->dt[live] = b->len[i] * dt;
+    b->tm[live] = t0 + b->step[i] * dt + 0.5 * b->dt[live];
     live++;
   }
   b->live = live;
@@ -201,15 +236,15 @@ static inline __attribute__((always_inline)) void march_batch_light(const sl_ren
 {
   const int live = b->live;
   int npts = 0, first_fetched = 0;
-  if (b->step[0] == b->carried_step + 1) {
+  if (b->step[0] == b->carried_end) {
     for (int c = 0; c <= nwl; ++c) b->p_state[c][0] = b->carried[c];
     npts = first_fetched = 1;
   }
   for (int i = 0; i < live; ++i) {
     if (i == 0 && first_fetched) b->start[i] = 0;
-    else if (i > 0 && b->step[i] == b->step[i - 1] + 1) b->start[i] = b->end[i - 1];
+    else if (i > 0 && b->step[i] == b->step[i - 1] + b->len[i - 1]) b->start[i] = b->end[i - 1];
     else b->p_t[b->start[i] = npts++] = t0 + b->step[i] * dt;
-    b->p_t[b->end[i] = npts++] = t0 + b->step[i] * dt + dt;
+    b->p_t[b->end[i] = npts++] = t0 + b->step[i] * dt + b->dt[i];
   }
   for (int k = first_fetched; k < npts; ++k) {
     const double x[3] = {o[0] + b->p_t[k] * d[0], o[1] + b->p_t[k] * d[1], o[2] + b->p_t[k] * d[2]};
@@ -232,7 +267,7 @@ static inline __attribute__((always_inline)) void march_batch_light(const sl_ren
     if (r->sky.radiance) sl__sky_light_at(&r->sky, x, b->sky[i]);
   }
   for (int c = 0; c <= nwl; ++c) b->carried[c] = b->p_state[c][b->end[live - 1]];
-  b->carried_step = b->step[live - 1];
+  b->carried_end = b->step[live - 1] + b->len[live - 1];
 }
 
 /* Eq. 26's angular term over only the fields the batch holds (bitwise the same), then the light
@@ -243,7 +278,7 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
                                                                       const sl_light_model *subsets,
                                                                       const int skylight, const int nf,
                                                                       const int nwl, int angle_index,
-                                                                      double angle_weight, double dt, march_batch *b)
+                                                                      double angle_weight, march_batch *b)
 {
   const int live = b->live;
   const sl_light_model *held_model = m;
@@ -255,10 +290,10 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
 #pragma omp simd
   for (int i = 0; i < live; ++i) {
     b->inv_beta[i] = 1.0 / b->beta[i];
-    b->opacity[i] = sl_step_opacity(b->beta[i], dt);
+    b->opacity[i] = sl_step_opacity(b->beta[i], b->dt[i]);
     const double e = 1.0 - b->opacity[i];
-    b->m0[i] = sl_segment_scatter_moment_exp(0, b->beta[i], dt, 1.0, e);
-    b->m1[i] = sl_segment_scatter_moment_exp(1, b->beta[i], dt, 1.0, e);
+    b->m0[i] = sl_segment_scatter_moment_exp(0, b->beta[i], b->dt[i], 1.0, e);
+    b->m1[i] = sl_segment_scatter_moment_exp(1, b->beta[i], b->dt[i], 1.0, e);
   }
   for (int c = 0; c < nwl; ++c) {
 #pragma omp simd
@@ -316,14 +351,14 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
   dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
   const double depth_per_t = sl_dot3(d, f->fwd);
   memset(b->carried, 0, sizeof b->carried);
-  b->carried_step = -2;
+  b->carried_end = -1;
   int size = MARCH_FIRST_BATCH, ended = 0;
   for (int s = 0; s < nsteps && !ended;) {
-    march_batch_steps(r, nf, o, d, t0, dt, nsteps, size, &s, b, samples);
+    march_batch_steps(r, nf, o, d, t0, dt, nsteps, sc->march_thin_depth, size, &s, b, samples);
     if (size < MARCH_BATCH) size *= 2;
     if (!b->live) continue;
     march_batch_light(r, nwl, f->suntab, sun_lane, o, d, t0, dt, b);
-    march_batch_scatter(&r->model, subsets, r->sky.radiance != NULL, nf, nwl, angle_index, angle_weight, dt, b);
+    march_batch_scatter(&r->model, subsets, r->sky.radiance != NULL, nf, nwl, angle_index, angle_weight, b);
     ended = march_batch_composite(nwl, b, depth_per_t, sc->termination_transparency, a);
   }
 }

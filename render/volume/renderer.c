@@ -51,6 +51,11 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     sl_fail(err, SL_ERR_ARG, "renderer: %d march samples per grid cell is out of range (1..8)", scene->march_samples);
     return NULL;
   }
+  if (!(scene->march_thin_depth >= 0.0 && scene->march_thin_depth <= 1.0)) {
+    sl_fail(err, SL_ERR_ARG, "renderer: march thin-step optical depth %g is out of range (0..1)",
+            scene->march_thin_depth);
+    return NULL;
+  }
   if (scene->light_resolution < 0 || scene->light_resolution > 8192) {
     sl_fail(err, SL_ERR_ARG, "renderer: light-buffer resolution %d is out of range (1..8192)",
             scene->light_resolution);
@@ -161,6 +166,7 @@ void sl_renderer_destroy(sl_renderer *r)
   sl__sky_light_free(&r->sky);
   sl__ground_free(&r->ground);
   free(r->empty_radius);
+  free(r->brick_beta_max);
   free(r->texel_spans.u_in), free(r->texel_spans.u_out), free(r->texel_spans.first), free(r->texel_spans.last);
   free(r->texel_spans.u_entry);
   free(r);

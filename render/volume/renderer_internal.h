@@ -59,6 +59,8 @@ struct sl_renderer {
                                  Chebyshev distance in bricks to the nearest occupied one (at most
                                  255): every brick less than that from it is empty, so a ray can
                                  jump the whole cube (sl__brick_empty_radius) */
+  float *brick_beta_max;    /* per 8^3 brick: the largest total extinction any trilinear cell with
+                               its lower corner in it reads (the largest of its corners') */
   int bricks[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;

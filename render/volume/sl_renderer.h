@@ -62,6 +62,12 @@ typedef struct sl_scene {
   /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 2). Fewer is faster
    * in proportion and coarser on optically thick surfaces (docs/ACCURACY.md). */
   int march_samples;
+  /* The light-volume march's largest optical depth for a longer step (0: every step is 1/march_samples
+   * of a cell). Where a step's 8^3 brick is thin enough that two or four steps together stay below
+   * it in its densest sample, the march takes them as one, sampled at its middle: fewer samples
+   * through thin anvils, rain and haze, where the light changes little within a step. A ray's
+   * samples stay on the lattice of the short steps (docs/ACCURACY.md, "Thin steps"). */
+  double march_thin_depth;
   /* 1: the sky dome lights the volume too (render/volume/sky_light.h: its diffuse light,
    * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");
    * 0: the sun alone, the paper's model. */

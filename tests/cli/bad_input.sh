@@ -98,6 +98,8 @@ expect_failure "absurd size" "width" "$sl" render "$work/good.nc" --out "$out" -
 expect_failure "absurd slices" "slices" "$sl" render "$work/good.nc" --out "$out" --slices 999999 --cpu-composite
 expect_failure "no march samples" "march-samples" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-samples 0 --cpu-composite
 expect_failure "too many march samples" "march-samples" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-samples 9 --cpu-composite
+expect_failure "thin-step depth above 1" "march-thin-depth" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-thin-depth 2 --cpu-composite
+expect_failure "thin steps on the GPU pass" "march-thin-depth" "$sl" render "$work/good.nc" --out "$out" --gpu --march-thin-depth 0.3
 expect_failure "overlays on the CPU composite" "cpu-composite draws no overlay lines" "$sl" render "$work/good.nc" --out "$out" --graticule --cpu-composite
 expect_failure "negative fog visibility" "fog-visibility-km" "$sl" render "$work/good.nc" --out "$out" --fog-visibility-km -1 --cpu-composite
 expect_failure "unknown scene key" "bad_scene.json.*unknown scene key 'colour'" "$sl" render --scene "$work/bad_scene.json" --out "$out" --cpu-composite
