@@ -1,5 +1,5 @@
 // bench_render [STORM.nc] [--grid N] [--repeat N] [--quick] [--only I,J,...] [--march-samples N]
-//              [--slices N] [--light-resolution N] [--termination T] [--contention]
+//              [--slices N] [--light-resolution N] [--termination T] [--thin-depth T] [--contention]
 // Times the CPU half-angle slicer: load, plan, light pass, eye pass, frame and EXR write, for the
 // low-albedo model and the multiple-scattering lighting at 3 and 16 wavelengths, at 512x512 with
 // 256 slices and 768x768 with 512 slices. With --grid N the storm is resampled (trilinearly) to
@@ -10,6 +10,7 @@
 // speed and image cost docs/PERFORMANCE.md measures. The 3-wavelength 512^2 frame is written to
 // /tmp/bench_render.exr for 'stormlight compare'. --contention adds the 3-wavelength 512^2 frame
 // and the light volume's eye pass at 1 and 2 threads, idle and with one and two processes spinning.
+// --thin-depth sets the last row's thin-step optical depth (sl_scene.march_thin_depth, 0.05).
 #include <omp.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -81,6 +82,9 @@ Timing time_frames(const sl_scene &sc, int size, int repeat, sl_image *keep, boo
   sl_image_alloc(&img, size, size, &err);
   for (int k = 0; k < repeat; ++k) {
     sl_render_stats st{};
+    // The light volume's frames are camera moves: 0.5 degree around the storm each (as VTK's
+    // peer below), so that nothing that depends on the camera could be kept.
+    if (sc.light_volume) sl_camera_frame(lo, hi, 200.0 + 0.5 * k, 12.0, 40.0, size, size, &cam);
     if (sun_moves) {
       double sun[3];
       sl_sun_direction(35.0, 240.0 + 0.01 * (k + 1), sun);
@@ -179,7 +183,7 @@ int main(int argc, char **argv)
 {
   std::string storm = "datasets/cumulonimbus.nc";
   int grid = 0, repeat = 3, march_samples = 0, light_resolution = 0, slices = 0;
-  double termination = 1e-6;
+  double termination = 1e-6, thin_depth = 0.05;
   bool quick = false, busy = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -192,6 +196,7 @@ int main(int argc, char **argv)
     else if (!std::strcmp(argv[i], "--light-resolution") && i + 1 < argc) light_resolution = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--slices") && i + 1 < argc) slices = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--termination") && i + 1 < argc) termination = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--thin-depth") && i + 1 < argc) thin_depth = std::atof(argv[++i]);
     else storm = argv[i];
   }
   const int threads = omp_get_max_threads();
@@ -246,6 +251,7 @@ int main(int argc, char **argv)
     int baseline_isa = 0;  // 1: the passes' baseline x86-64 copy even where AVX-512 is there
     int sun_moves = 0;     // 1: a new sun every frame (time_frames)
     int skylight = 0;      // 1: the CLI's diffuse light: the sky dome and the diffuse sunlight (a lattice per sun)
+    int thin_steps = 0;    // 1: the light volume's march with --thin-depth (sl_scene.march_thin_depth)
   };
   std::vector<Case> cases = {{"low-albedo", SL_LIGHTING_LOW_ALBEDO, 0, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0},
@@ -255,7 +261,8 @@ int main(int argc, char **argv)
                              {"multiple, 16 wl", SL_LIGHTING_MULTIPLE, 1, 768, 512, 0},
                              {"3 wl, x86-64 base", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 1},
                              {"3 wl, sun moves", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1},
-                             {"3 wl, diffuse, mv", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1, 1}};
+                             {"3 wl, diffuse, mv", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1, 1},
+                             {"light vol., thin", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1, 0, 0, 0, 1}};
   if (quick) cases.resize(3);
   if (!only.empty()) {
     // --only 2,3: the listed cases (1-based), for profiling one configuration.
@@ -271,7 +278,9 @@ int main(int argc, char **argv)
   double frame_512_ms = 0.0, lv_eye_ms = 0.0, base_512_ms = 0.0, moving_sun_512_ms = 0.0;
   Timing sky_512{};  // the moving-sun frame with the skylight and the diffuse sunlight
   int wide_512 = 0;
-  sl_image keep{}, keep_base{};
+  sl_image keep{}, keep_base{}, keep_marched{}, keep_thin{};
+  double thin_eye_ms = 0.0;
+  long lv_samples = 0, thin_samples = 0;
   std::printf("%-18s %9s %7s %12s %10s %10s %10s %8s\n", "lighting", "image", "slices", "light buffer", "light s",
               "eye s", "frame s", "fps");
   for (const Case &c : cases) {
@@ -287,11 +296,14 @@ int main(int argc, char **argv)
     sc.march_samples = march_samples;  // the light-volume rows' eye samples per cell (0: the default, 2)
     sc.baseline_isa = c.baseline_isa;
     sc.skylight = c.skylight, sc.diffuse_sunlight = c.skylight;
+    sc.march_thin_depth = c.thin_steps ? thin_depth : 0.0;
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
     const bool slicer_512 =
         c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume && !c.sun_moves;
-    const Timing t = time_frames(sc, c.size, repeat, slicer_512 ? (c.baseline_isa ? &keep_base : &keep) : nullptr,
-                                 c.sun_moves);
+    sl_image *kept = slicer_512       ? (c.baseline_isa ? &keep_base : &keep)
+                     : c.light_volume ? (c.thin_steps ? &keep_thin : &keep_marched)
+                                      : nullptr;
+    const Timing t = time_frames(sc, c.size, repeat, kept, c.sun_moves);
     if (c.sun_moves && !c.skylight) moving_sun_512_ms = 1e3 * t.frame;
     if (c.sun_moves && c.skylight) sky_512 = t;
     if (slicer_512 && !c.baseline_isa) frame_512_ms = 1e3 * t.frame, wide_512 = t.wide_isa;
@@ -307,8 +319,20 @@ int main(int argc, char **argv)
       std::printf("%-18s %9s %7d %12s %10.3f %10.3f %10.3f %8.2f   (%.1fM light, %.1fM eye samples; %.3f CPU s)\n",
                   c.name, image, t.slices, buffer, t.light, t.eye, t.frame, 1.0 / t.frame, 1e-6 * t.light_samples,
                   1e-6 * t.eye_samples, t.cpu);
-    if (c.light_volume) lv_eye_ms = 1e3 * t.eye;
+    if (c.light_volume && !c.thin_steps) lv_eye_ms = 1e3 * t.eye, lv_samples = t.eye_samples;
+    if (c.thin_steps) thin_eye_ms = 1e3 * t.eye, thin_samples = t.eye_samples;
   }
+  if (keep_marched.rgba && keep_thin.rgba) {
+    // Thin steps against every step, on the same last camera.
+    sl_image_metrics im{};
+    sl_image_compare(&keep_thin, &keep_marched, &im, &err);
+    std::printf("light volume, thin steps (optical depth %g) against every step (the last camera): relative RMSE "
+                "%.3g, max |diff| %.3g; eye pass %.3f s against %.3f s (%.2fx), samples %.1fM against %.1fM\n",
+                thin_depth, im.relative_rmse, im.max_abs_diff, thin_eye_ms / 1e3, lv_eye_ms / 1e3,
+                lv_eye_ms / thin_eye_ms, 1e-6 * thin_samples, 1e-6 * lv_samples);
+  }
+  sl_image_free(&keep_marched);
+  sl_image_free(&keep_thin);
   if (busy) {
     sl_scene slicer{}, lv{};
     slicer.volume = lv.volume = vol;
@@ -400,6 +424,9 @@ int main(int argc, char **argv)
   std::printf("ratio stormlight multiple/3 wl frame (512x512, 256 slices) / VTK frame: %.2f\n",
               frame_512_ms / 1e3 / vtk_best);
   std::printf("ratio light-volume camera move (eye pass only) / VTK frame: %.2f\n", lv_eye_ms / 1e3 / vtk_best);
+  if (thin_eye_ms > 0.0)
+    std::printf("ratio light-volume camera move with thin steps (optical depth %g) / VTK frame: %.2f\n", thin_depth,
+                thin_eye_ms / 1e3 / vtk_best);
   sl_volume_free(&resampled);
   sl_storm_frame_free(&frame);
   return 0;
