@@ -325,8 +325,9 @@ static inline __attribute__((always_inline)) int march_batch_composite(const int
 /* One pixel's ray d over [t0, t1] into its accumulator a: its scattering angle's table row (fixed
  * along the ray under a collimated sun), steps of at most 1/march_samples of a grid cell along
  * every axis (by default two: the light volume holds the light at the grid's resolution, and a
- * finer march keeps optically thick surfaces from speckling), gathered a batch at a time; a ray's
- * first batch is small, since a ray into a thick cloud ends after a few steps. */
+ * finer march keeps optically thick surfaces from speckling), or two or four of them as one through
+ * thin bricks (march_step_length), gathered a batch at a time; a ray's first batch is small, since a
+ * ray into a thick cloud ends after a few steps. */
 static inline __attribute__((always_inline)) void march_ray(const march_frame *f, const int nf, const int nwl,
                                                             const sl__sun_lane *sun_lane, const double d[3],
                                                             double t0, double t1, march_batch *b, float *a,
