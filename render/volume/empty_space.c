@@ -28,9 +28,9 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
         for (int dk = -1; dk <= 0; ++dk)
           for (int dj = -1; dj <= 0; ++dj)
             for (int di = -1; di <= 0; ++di) {
-              const int ii = i + di, jj = j + dj, kk = k + dk;
-              if (ii < 0 || jj < 0 || kk < 0) continue;
-              const size_t b = ((size_t)(kk / 8) * r->bricks[1] + jj / 8) * r->bricks[0] + ii / 8;
+              const int cell[3] = {i + di, j + dj, k + dk};
+              if (cell[0] < 0 || cell[1] < 0 || cell[2] < 0) continue;
+              const size_t b = sl__brick_index(r, cell);
               r->empty_radius[b] = 0;
               if (beta > r->brick_beta_max[b]) r->brick_beta_max[b] = beta;
             }

@@ -171,7 +171,7 @@ static inline __attribute__((always_inline)) int march_step_length(const sl_rend
   int is[3];
   double f[3];
   sl__lattice_cell(g, xs, is, f);
-  const size_t brick = ((size_t)(is[2] / 8) * r->bricks[1] + is[1] / 8) * r->bricks[0] + is[0] / 8;
+  const size_t brick = sl__brick_index(r, is);
   const double beta_max = r->brick_beta_max[brick];
   for (int len = MARCH_THIN_LONGEST; len > 1; len /= 2) {
     if (s % len || s + len > nsteps || beta_max * len * dt > thin_depth) continue;
@@ -179,7 +179,7 @@ static inline __attribute__((always_inline)) int march_step_length(const sl_rend
     const double xe[3] = {o[0] + te * d[0], o[1] + te * d[1], o[2] + te * d[2]};
     int ie[3];
     sl__lattice_cell(g, xe, ie, f);
-    if (ie[0] / 8 == is[0] / 8 && ie[1] / 8 == is[1] / 8 && ie[2] / 8 == is[2] / 8) return len;
+    if (sl__brick_index(r, ie) == brick) return len;
   }
   return 1;
 }

@@ -133,11 +133,14 @@ static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid
   }
 }
 
-/* The empty radius of the brick holding lattice cell i0 (0: occupied). */
-static inline int sl__brick_radius(const sl_renderer *r, const int i0[3])
+/* The index of the 8^3 brick holding lattice cell i0 (in empty_radius, brick_beta_max). */
+static inline size_t sl__brick_index(const sl_renderer *r, const int i0[3])
 {
-  return r->empty_radius[((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8];
+  return ((size_t)(i0[2] / 8) * r->bricks[1] + i0[1] / 8) * r->bricks[0] + i0[0] / 8;
 }
+
+/* The empty radius of the brick holding lattice cell i0 (0: occupied). */
+static inline int sl__brick_radius(const sl_renderer *r, const int i0[3]) { return r->empty_radius[sl__brick_index(r, i0)]; }
 
 static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { return sl__brick_radius(r, i0) == 0; }
 
