@@ -150,6 +150,8 @@ static int render_main(int argc, char **argv, sl::FrameKeep *keep)
   if (!(fog_sky_km > 0)) return sl::fail(cmd, "--fog-depth-km must be > 0", 2);
   if (o.has("gpu") && settings->march_thin_depth > 0.0)
     return sl::fail(cmd, "--march-thin-depth is the CPU march's (--light-volume); the GPU pass takes every step", 2);
+  if (o.has("gpu") && settings->march_refine_tolerance > 0.0)
+    return sl::fail(cmd, "--march-refine is the CPU march's (--light-volume); the GPU pass marches every pixel", 2);
   if (threads > 0) omp_set_num_threads((int)threads);
   const bool json = o.has("json");
   const bool quiet = o.has("quiet") || json;

@@ -68,7 +68,7 @@ struct Setting {
   std::string name, family;
   int slices = 0, light_resolution = 0, max_order = 0, march_samples = 0;
   sl_lighting lighting = SL_LIGHTING_MULTIPLE;
-  double xi = 0, march_thin_depth = 0;
+  double xi = 0, march_thin_depth = 0, march_refine_tolerance = 0;
   bool spectral = false, light_volume = false, skylight = true, diffuse_sunlight = true;
 };
 
@@ -160,6 +160,9 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
         [n](Setting &s) { s.light_volume = true, s.march_samples = n; });
   add("light volume", "light volume, thin steps 0.3",
       [](Setting &s) { s.light_volume = true, s.march_thin_depth = 0.3; });
+  for (double tol : {0.02, 0.1})
+    add("light volume", "light volume, adaptive pixels " + fmt("%g", tol),
+        [tol](Setting &s) { s.light_volume = true, s.march_refine_tolerance = tol; });
   add("fast", "slices 64, light buffer 64", [](Setting &s) { s.slices = 64, s.light_resolution = 64; });
   add("fast", "slices 32, light buffer 32", [](Setting &s) { s.slices = 32, s.light_resolution = 32; });
   return v;
@@ -341,6 +344,7 @@ int sl_cmd_validate(int argc, char **argv)
   base.spectral = settings->spectral;
   base.light_volume = settings->light_volume, base.march_samples = settings->march_samples;
   base.march_thin_depth = settings->march_thin_depth;
+  base.march_refine_tolerance = settings->march_refine_tolerance;
   base.skylight = settings->skylight;
   base.diffuse_sunlight = settings->diffuse_sunlight;
   // Air and particle tables per wavelength set (and per highest order), built once; tables come
@@ -367,7 +371,7 @@ int sl_cmd_validate(int argc, char **argv)
     std::unique_ptr<sl_settings> v(new sl_settings(*settings));
     v->lighting = s.lighting, v->xi = s.xi, v->slices = s.slices, v->light_resolution = s.light_resolution;
     v->light_volume = s.light_volume, v->march_samples = s.march_samples, v->spectral = s.spectral;
-    v->march_thin_depth = s.march_thin_depth;
+    v->march_thin_depth = s.march_thin_depth, v->march_refine_tolerance = s.march_refine_tolerance;
     v->skylight = s.skylight, v->diffuse_sunlight = s.diffuse_sunlight;
     sl_scene_fill(v.get(), built.get(), with_air ? &air[s.spectral] : nullptr, optics, sc);
     return true;
@@ -705,6 +709,7 @@ int sl_cmd_validate(int argc, char **argv)
     cJSON_AddStringToObject(j, "wavelengths", r.s.spectral ? "spectral" : "rgb");
     cJSON_AddBoolToObject(j, "light_volume", r.s.light_volume);
     cJSON_AddNumberToObject(j, "march_thin_depth", r.s.march_thin_depth);
+    cJSON_AddNumberToObject(j, "march_refine_tolerance", r.s.march_refine_tolerance);
     cJSON_AddNumberToObject(j, "seconds", r.seconds);
     cJSON_AddItemToObject(j, "all", class_json(r.all));
     cJSON_AddItemToObject(j, "thin", class_json(r.thin));

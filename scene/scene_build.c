@@ -171,6 +171,7 @@ void sl_scene_fill(const sl_settings *s, const sl_built_scene *b, const sl_atmos
   out->light_resolution = s->light_resolution;
   out->march_samples = s->march_samples;
   out->march_thin_depth = s->march_thin_depth;
+  out->march_refine_tolerance = s->march_refine_tolerance;
 }
 
 int sl_scene_build(const sl_settings *s, const sl_build_options *opt, sl_built_scene *b, sl_error *err)

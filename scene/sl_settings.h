@@ -41,6 +41,7 @@ typedef struct sl_settings {
   double ground_albedo;              /* the flat ground under the storm (sl_scene.ground_albedo) */
   int march_samples;
   double march_thin_depth;           /* sl_scene.march_thin_depth */
+  double march_refine_tolerance;     /* sl_scene.march_refine_tolerance */
   int no_atmosphere;
   double camera_position[3], camera_target[3]; /* given: "camera-position", "camera-target" */
   double view_azimuth_deg, view_elevation_deg, fov_deg;

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "light_volume.h"
+#include "pixel_refine.h"
 #include "sky_light_gather.h"
 #include "sl_sample_physics.h"
 #include "vector_math.h"
@@ -111,6 +112,8 @@ typedef struct march_frame {
   const sl_phase_table *grid_table;
   double fwd[3], right[3], up[3];
   double tan_half, aspect, h_center, f_o;
+  sl__refine *refine; /* adaptive refinement (sl_scene.march_refine_tolerance), or NULL */
+  size_t count;       /* the length of refine's list, shared by the threads */
   long samples;
   int wide_isa; /* which copy ran */
 } march_frame;
@@ -364,39 +367,109 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
   }
 }
 
+/* Pixel q's ray d through the content box, [*t0, *t1] up to any opaque surface; 0 where it has
+ * nothing to march (it misses the box, or a surface hides the box). *hard: a surface cuts the ray
+ * inside the box or hides it (no block holding its pixel is interpolated, pixel_refine.h). */
+static inline __attribute__((always_inline)) int pixel_span(const march_frame *f, size_t q, double d[3], double *t0,
+                                                            double *t1, int *hard)
+{
+  const sl_renderer *r = f->r;
+  const sl_camera *cam = f->cam;
+  const sl_image *img = f->img;
+  sl_camera_pixel_ray(f->fwd, f->right, f->up, f->tan_half, f->aspect, img->width, img->height, (int)(q % img->width),
+                      (int)(q / img->width), d);
+  *t0 = *t1 = 0.0;
+  int hit = sl_ray_box(r->clo, r->chi, cam->position, d, t0, t1) && *t1 > 0.0;
+  if (*t0 < 0.0) *t0 = 0.0;
+  *hard = hit && cam->opaque_distance && cam->opaque_distance[q] < *t1;
+  if (*hard) *t1 = cam->opaque_distance[q];
+  return hit && *t1 > *t0;
+}
+
+/* Pixel q's accumulator a (radiance per wavelength, transparency, depth numerator) from its ray d
+ * over [t0, t1]: empty where the ray meets no medium. */
+static inline __attribute__((always_inline)) void march_pixel(const march_frame *f, const int nf, const int nwl,
+                                                              const sl__sun_lane *sun_lane, const double d[3],
+                                                              double t0, double t1, int hit, march_batch *b,
+                                                              float *a, long *samples)
+{
+  for (int c = 0; c < nwl + 2; ++c) a[c] = 0.0f;
+  a[nwl] = 1.0f;
+  if (hit) march_ray(f, nf, nwl, sun_lane, d, t0, t1, b, a, samples);
+}
+
+/* Pixel q from its accumulator: the resolve against the air in front. */
+static inline __attribute__((always_inline)) void resolve_march_pixel(const march_frame *f, size_t q,
+                                                                      const double d[3], double t0, double t1,
+                                                                      const float *a)
+{
+  const sl_scene *sc = &f->r->scene;
+  const double t_mid = sl_resolve_split(sl_dot3(f->fwd, d), f->h_center - f->f_o, t0, t1);
+  sl__resolve_pixel(f->r, sc->atmosphere ? f->view : NULL, d, t_mid, a, f->img, q);
+}
+
+/* The march with adaptive refinement (pixel_refine.h): the rays of each list, shared among the
+ * threads, then the next finer list, then the fill and the resolve. Three or four barriers a frame,
+ * not one per slice. */
+static inline __attribute__((always_inline)) void march_pixels_refined(march_frame *f, const int nf, const int nwl,
+                                                                       const sl__sun_lane *sun_lane, march_batch *b,
+                                                                       long *samples)
+{
+  sl__refine *rf = f->refine;
+  const size_t np = (size_t)f->img->width * f->img->height;
+  const int nc = rf->channels;
+#pragma omp for schedule(static)
+  for (size_t q = 0; q < np; ++q) {
+    double d[3], t0, t1;
+    int hard;
+    pixel_span(f, q, d, &t0, &t1, &hard);
+    rf->hard[q] = (unsigned char)hard;
+  }
+#pragma omp single
+  f->count = sl__refine_first(rf);
+  while (f->count) {
+#pragma omp for schedule(dynamic, 16)
+    for (size_t i = 0; i < f->count; ++i) {
+      const size_t q = (size_t)rf->list[i];
+      double d[3], t0, t1;
+      int hard;
+      const int hit = pixel_span(f, q, d, &t0, &t1, &hard);
+      march_pixel(f, nf, nwl, sun_lane, d, t0, t1, hit, b, rf->acc + q * nc, samples);
+    }
+#pragma omp single
+    f->count = sl__refine_next(rf);
+  }
+  sl__refine_fill(rf);
+#pragma omp for schedule(static)
+  for (size_t q = 0; q < np; ++q) {
+    double d[3], t0, t1;
+    int hard;
+    pixel_span(f, q, d, &t0, &t1, &hard);
+    resolve_march_pixel(f, q, d, t0, t1, rf->acc + q * nc);
+  }
+}
+
 /* One thread's share of the march (the pixel loop inside binds to the caller's parallel region),
  * inlined into march_run with constant field and wavelength counts as the slicer's passes are
  * (slicer.c, slicer_run): per pixel its ray through the content box up to any opaque surface,
  * then the resolve against the air in front. */
 static inline __attribute__((always_inline)) void march_pixels(march_frame *f, const int nf, const int nwl)
 {
-  const sl_renderer *r = f->r;
-  const sl_scene *sc = &r->scene;
-  const sl_camera *cam = f->cam;
-  sl_image *img = f->img;
   const sl__sun_lane sun_lane = sl__sun_table_lane(f->suntab);
-  const double *fwd = f->fwd, *right = f->right, *up = f->up;
-  const double tan_half = f->tan_half, aspect = f->aspect, h_center = f->h_center, f_o = f->f_o;
-  const size_t np = (size_t)img->width * img->height;
-  const double *o = cam->position;
+  const size_t np = (size_t)f->img->width * f->img->height;
   long samples = 0;
   march_batch batch; /* this thread's */
+  if (f->refine) march_pixels_refined(f, nf, nwl, &sun_lane, &batch, &samples);
+  else {
 #pragma omp for schedule(dynamic, 64) nowait
-  for (size_t q = 0; q < np; ++q) {
-    double d[3];
-    sl_camera_pixel_ray(fwd, right, up, tan_half, aspect, img->width, img->height, (int)(q % img->width),
-                        (int)(q / img->width), d);
-    float a[SL_MAX_WAVELENGTHS + 2];
-    memset(a, 0, sizeof a);
-    a[nwl] = 1.0f;
-    double t0 = 0.0, t1 = 0.0;
-    int hit = sl_ray_box(r->clo, r->chi, o, d, &t0, &t1) && t1 > 0.0;
-    if (t0 < 0.0) t0 = 0.0;
-    if (cam->opaque_distance && cam->opaque_distance[q] < t1) t1 = cam->opaque_distance[q];
-    if (t1 <= t0) hit = 0; /* an opaque surface in front of the volume */
-    if (hit) march_ray(f, nf, nwl, &sun_lane, d, t0, t1, &batch, a, &samples);
-    const double t_mid = sl_resolve_split(sl_dot3(fwd, d), h_center - f_o, t0, t1);
-    sl__resolve_pixel(r, sc->atmosphere ? f->view : NULL, d, t_mid, a, img, q);
+    for (size_t q = 0; q < np; ++q) {
+      float a[SL_MAX_WAVELENGTHS + 2];
+      double d[3], t0, t1;
+      int hard;
+      const int hit = pixel_span(f, q, d, &t0, &t1, &hard);
+      march_pixel(f, nf, nwl, &sun_lane, d, t0, t1, hit, &batch, a, &samples);
+      resolve_march_pixel(f, q, d, t0, t1, a);
+    }
   }
 #pragma omp atomic
   f->samples += samples;
@@ -447,7 +520,16 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
   march_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .grid_table = grid_table,
                    .tan_half = tan_half, .aspect = aspect, .h_center = h_center, .f_o = f_o};
   for (int a = 0; a < 3; ++a) f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a];
+  sl__refine refine;
+  if (sc->march_refine_tolerance > 0.0) {
+    if (!sl__refine_init(&refine, img->width, img->height, m->nwl + 2, m->nwl, sc->march_refine_tolerance)) {
+      free(suntab);
+      return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
+    }
+    f.refine = &refine;
+  }
   march_run(&f);
+  if (f.refine) sl__refine_free(&refine);
   const long samples = f.samples;
   if (stats) {
     memset(stats, 0, sizeof *stats);

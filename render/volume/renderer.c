@@ -56,6 +56,11 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
             scene->march_thin_depth);
     return NULL;
   }
+  if (!(scene->march_refine_tolerance >= 0.0 && scene->march_refine_tolerance <= 1.0)) {
+    sl_fail(err, SL_ERR_ARG, "renderer: march refinement tolerance %g is out of range (0..1)",
+            scene->march_refine_tolerance);
+    return NULL;
+  }
   if (scene->light_resolution < 0 || scene->light_resolution > 8192) {
     sl_fail(err, SL_ERR_ARG, "renderer: light-buffer resolution %d is out of range (1..8192)",
             scene->light_resolution);

@@ -68,6 +68,12 @@ typedef struct sl_scene {
    * through thin anvils, rain and haze, where the light changes little within a step. A ray's
    * samples stay on the lattice of the short steps (docs/ACCURACY.md, "Thin steps"). */
   double march_thin_depth;
+  /* The light-volume march's adaptive refinement (render/volume/pixel_refine.h; 0: a ray per
+   * pixel). The rays of every 8th pixel are marched first; where a block's four corner rays agree
+   * within this fraction (radiance, depth, and transparency as an absolute difference) the pixels
+   * inside are interpolated, elsewhere the block splits, down to every pixel (docs/ACCURACY.md,
+   * "Adaptive pixels"). */
+  double march_refine_tolerance;
   /* 1: the sky dome lights the volume too (render/volume/sky_light.h: its diffuse light,
    * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");
    * 0: the sun alone, the paper's model. */

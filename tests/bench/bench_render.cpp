@@ -10,7 +10,8 @@
 // speed and image cost docs/PERFORMANCE.md measures. The 3-wavelength 512^2 frame is written to
 // /tmp/bench_render.exr for 'stormlight compare'. --contention adds the 3-wavelength 512^2 frame
 // and the light volume's eye pass at 1 and 2 threads, idle and with one and two processes spinning.
-// --thin-depth sets the last row's thin-step optical depth (sl_scene.march_thin_depth, 0.05).
+// --thin-depth sets the thin-step rows' optical depth (sl_scene.march_thin_depth, 0.05), --refine
+// the adaptive-pixel rows' tolerance (sl_scene.march_refine_tolerance, 0.02).
 #include <omp.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -183,7 +184,7 @@ int main(int argc, char **argv)
 {
   std::string storm = "datasets/cumulonimbus.nc";
   int grid = 0, repeat = 3, march_samples = 0, light_resolution = 0, slices = 0;
-  double termination = 1e-6, thin_depth = 0.05;
+  double termination = 1e-6, thin_depth = 0.05, refine = 0.02;
   bool quick = false, busy = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -197,6 +198,7 @@ int main(int argc, char **argv)
     else if (!std::strcmp(argv[i], "--slices") && i + 1 < argc) slices = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--termination") && i + 1 < argc) termination = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--thin-depth") && i + 1 < argc) thin_depth = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--refine") && i + 1 < argc) refine = std::atof(argv[++i]);
     else storm = argv[i];
   }
   const int threads = omp_get_max_threads();
@@ -252,6 +254,7 @@ int main(int argc, char **argv)
     int sun_moves = 0;     // 1: a new sun every frame (time_frames)
     int skylight = 0;      // 1: the CLI's diffuse light: the sky dome and the diffuse sunlight (a lattice per sun)
     int thin_steps = 0;    // 1: the light volume's march with --thin-depth (sl_scene.march_thin_depth)
+    int adaptive = 0;      // 1: the light volume's march with --refine (sl_scene.march_refine_tolerance)
   };
   std::vector<Case> cases = {{"low-albedo", SL_LIGHTING_LOW_ALBEDO, 0, 512, 256, 0},
                              {"multiple, 3 wl", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0},
@@ -262,7 +265,9 @@ int main(int argc, char **argv)
                              {"3 wl, x86-64 base", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 1},
                              {"3 wl, sun moves", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1},
                              {"3 wl, diffuse, mv", SL_LIGHTING_MULTIPLE, 0, 512, 256, 0, 0, 1, 1},
-                             {"light vol., thin", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1, 0, 0, 0, 1}};
+                             {"light vol., thin", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1, 0, 0, 0, 1},
+                             {"light vol., adapt", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1, 0, 0, 0, 0, 1},
+                             {"lv., thin+adapt", SL_LIGHTING_MULTIPLE, 0, 512, 0, 1, 0, 0, 0, 1, 1}};
   if (quick) cases.resize(3);
   if (!only.empty()) {
     // --only 2,3: the listed cases (1-based), for profiling one configuration.
@@ -278,9 +283,11 @@ int main(int argc, char **argv)
   double frame_512_ms = 0.0, lv_eye_ms = 0.0, base_512_ms = 0.0, moving_sun_512_ms = 0.0;
   Timing sky_512{};  // the moving-sun frame with the skylight and the diffuse sunlight
   int wide_512 = 0;
-  sl_image keep{}, keep_base{}, keep_marched{}, keep_thin{};
-  double thin_eye_ms = 0.0;
-  long lv_samples = 0, thin_samples = 0;
+  sl_image keep{}, keep_base{}, keep_marched{};
+  // The light volume's faster marches (thin steps, adaptive pixels, both), each against every step.
+  sl_image keep_fast[3]{};
+  double fast_eye_ms[3] = {0, 0, 0};
+  long lv_samples = 0, fast_samples[3] = {0, 0, 0};
   std::printf("%-18s %9s %7s %12s %10s %10s %10s %8s\n", "lighting", "image", "slices", "light buffer", "light s",
               "eye s", "frame s", "fps");
   for (const Case &c : cases) {
@@ -297,11 +304,13 @@ int main(int argc, char **argv)
     sc.baseline_isa = c.baseline_isa;
     sc.skylight = c.skylight, sc.diffuse_sunlight = c.skylight;
     sc.march_thin_depth = c.thin_steps ? thin_depth : 0.0;
+    sc.march_refine_tolerance = c.adaptive ? refine : 0.0;
+    const int fast = c.thin_steps + 2 * c.adaptive - 1;  // -1: every step and pixel
     sl_sun_direction(35.0, 240.0, sc.sun_direction);
     const bool slicer_512 =
         c.size == 512 && c.lighting == SL_LIGHTING_MULTIPLE && !c.spectral && !c.light_volume && !c.sun_moves;
     sl_image *kept = slicer_512       ? (c.baseline_isa ? &keep_base : &keep)
-                     : c.light_volume ? (c.thin_steps ? &keep_thin : &keep_marched)
+                     : c.light_volume ? (fast >= 0 ? &keep_fast[fast] : &keep_marched)
                                       : nullptr;
     const Timing t = time_frames(sc, c.size, repeat, kept, c.sun_moves);
     if (c.sun_moves && !c.skylight) moving_sun_512_ms = 1e3 * t.frame;
@@ -319,20 +328,25 @@ int main(int argc, char **argv)
       std::printf("%-18s %9s %7d %12s %10.3f %10.3f %10.3f %8.2f   (%.1fM light, %.1fM eye samples; %.3f CPU s)\n",
                   c.name, image, t.slices, buffer, t.light, t.eye, t.frame, 1.0 / t.frame, 1e-6 * t.light_samples,
                   1e-6 * t.eye_samples, t.cpu);
-    if (c.light_volume && !c.thin_steps) lv_eye_ms = 1e3 * t.eye, lv_samples = t.eye_samples;
-    if (c.thin_steps) thin_eye_ms = 1e3 * t.eye, thin_samples = t.eye_samples;
+    if (c.light_volume && fast < 0) lv_eye_ms = 1e3 * t.eye, lv_samples = t.eye_samples;
+    if (fast >= 0) fast_eye_ms[fast] = 1e3 * t.eye, fast_samples[fast] = t.eye_samples;
   }
-  if (keep_marched.rgba && keep_thin.rgba) {
-    // Thin steps against every step, on the same last camera.
+  for (int k = 0; k < 3; ++k) {
+    if (!keep_marched.rgba || !keep_fast[k].rgba) continue;
+    // Against every step and pixel, on the same last camera.
+    char what[96];
+    if (k == 0) std::snprintf(what, sizeof what, "thin steps (optical depth %g)", thin_depth);
+    else if (k == 1) std::snprintf(what, sizeof what, "adaptive pixels (tolerance %g)", refine);
+    else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
     sl_image_metrics im{};
-    sl_image_compare(&keep_thin, &keep_marched, &im, &err);
-    std::printf("light volume, thin steps (optical depth %g) against every step (the last camera): relative RMSE "
-                "%.3g, max |diff| %.3g; eye pass %.3f s against %.3f s (%.2fx), samples %.1fM against %.1fM\n",
-                thin_depth, im.relative_rmse, im.max_abs_diff, thin_eye_ms / 1e3, lv_eye_ms / 1e3,
-                lv_eye_ms / thin_eye_ms, 1e-6 * thin_samples, 1e-6 * lv_samples);
+    sl_image_compare(&keep_fast[k], &keep_marched, &im, &err);
+    std::printf("light volume, %s against every step and pixel (the last camera): relative RMSE %.3g, max |diff| "
+                "%.3g; eye pass %.3f s against %.3f s (%.2fx), samples %.1fM against %.1fM\n",
+                what, im.relative_rmse, im.max_abs_diff, fast_eye_ms[k] / 1e3, lv_eye_ms / 1e3,
+                lv_eye_ms / fast_eye_ms[k], 1e-6 * fast_samples[k], 1e-6 * lv_samples);
+    sl_image_free(&keep_fast[k]);
   }
   sl_image_free(&keep_marched);
-  sl_image_free(&keep_thin);
   if (busy) {
     sl_scene slicer{}, lv{};
     slicer.volume = lv.volume = vol;
@@ -424,9 +438,11 @@ int main(int argc, char **argv)
   std::printf("ratio stormlight multiple/3 wl frame (512x512, 256 slices) / VTK frame: %.2f\n",
               frame_512_ms / 1e3 / vtk_best);
   std::printf("ratio light-volume camera move (eye pass only) / VTK frame: %.2f\n", lv_eye_ms / 1e3 / vtk_best);
-  if (thin_eye_ms > 0.0)
-    std::printf("ratio light-volume camera move with thin steps (optical depth %g) / VTK frame: %.2f\n", thin_depth,
-                thin_eye_ms / 1e3 / vtk_best);
+  const char *fast_names[3] = {"thin steps", "adaptive pixels", "thin steps and adaptive pixels"};
+  for (int k = 0; k < 3; ++k)
+    if (fast_eye_ms[k] > 0.0)
+      std::printf("ratio light-volume camera move with %s (optical depth %g, tolerance %g) / VTK frame: %.2f\n",
+                  fast_names[k], thin_depth, refine, fast_eye_ms[k] / 1e3 / vtk_best);
   sl_volume_free(&resampled);
   sl_storm_frame_free(&frame);
   return 0;

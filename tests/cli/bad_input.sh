@@ -100,6 +100,8 @@ expect_failure "no march samples" "march-samples" "$sl" render "$work/good.nc" -
 expect_failure "too many march samples" "march-samples" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-samples 9 --cpu-composite
 expect_failure "thin-step depth above 1" "march-thin-depth" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-thin-depth 2 --cpu-composite
 expect_failure "thin steps on the GPU pass" "march-thin-depth" "$sl" render "$work/good.nc" --out "$out" --gpu --march-thin-depth 0.3
+expect_failure "refinement tolerance above 1" "march-refine" "$sl" render "$work/good.nc" --out "$out" --light-volume --march-refine 2 --cpu-composite
+expect_failure "adaptive pixels on the GPU pass" "march-refine" "$sl" render "$work/good.nc" --out "$out" --gpu --march-refine 0.05
 expect_failure "overlays on the CPU composite" "cpu-composite draws no overlay lines" "$sl" render "$work/good.nc" --out "$out" --graticule --cpu-composite
 expect_failure "negative fog visibility" "fog-visibility-km" "$sl" render "$work/good.nc" --out "$out" --fog-visibility-km -1 --cpu-composite
 expect_failure "unknown scene key" "bad_scene.json.*unknown scene key 'colour'" "$sl" render --scene "$work/bad_scene.json" --out "$out" --cpu-composite

@@ -1,0 +1,159 @@
+/* Adaptive refinement of an image's rays in blocks (pixel_refine.h). */
+#include "pixel_refine.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum refine_state { BLOCK_INACTIVE = 0, BLOCK_SMOOTH, BLOCK_SPLITS };
+
+static int blocks_across(const sl__refine *f, int size) { return f->block_x / size; }
+static int blocks_down(const sl__refine *f, int size) { return f->block_y / size; }
+
+int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance)
+{
+  memset(f, 0, sizeof *f);
+  f->width = width, f->height = height, f->channels = channels;
+  f->transparency = transparency, f->tolerance = tolerance;
+  /* The blocked region's last row and column are lattice points; the strips beyond, narrower than
+   * a block, are marched. An image smaller than one block is marched whole. */
+  f->block_x = (width - 1) / SL__REFINE_TOP * SL__REFINE_TOP;
+  f->block_y = (height - 1) / SL__REFINE_TOP * SL__REFINE_TOP;
+  if (!f->block_x || !f->block_y) f->block_x = f->block_y = -1;
+  const size_t np = (size_t)width * height;
+  f->acc = calloc(np * channels, sizeof *f->acc);
+  f->marched = calloc(np, 1);
+  f->hard = calloc(np, 1);
+  f->list = malloc(np * sizeof *f->list);
+  int ok = f->acc && f->marched && f->hard && f->list;
+  for (int l = 0; l < SL__REFINE_LEVELS && ok && f->block_x > 0; ++l) {
+    const int size = SL__REFINE_TOP >> l;
+    f->state[l] = calloc((size_t)blocks_across(f, size) * blocks_down(f, size), 1);
+    ok = f->state[l] != NULL;
+  }
+  if (!ok) sl__refine_free(f);
+  return ok;
+}
+
+void sl__refine_free(sl__refine *f)
+{
+  free(f->acc), free(f->marched), free(f->hard), free(f->list);
+  for (int l = 0; l < SL__REFINE_LEVELS; ++l) free(f->state[l]);
+  memset(f, 0, sizeof *f);
+}
+
+static void list_pixel(sl__refine *f, int x, int y)
+{
+  const size_t q = (size_t)y * f->width + x;
+  if (f->marched[q]) return;
+  f->marched[q] = 1;
+  f->list[f->count++] = (int)q;
+}
+
+size_t sl__refine_first(sl__refine *f)
+{
+  const int step = SL__REFINE_TOP / 2;
+  f->count = 0;
+  f->size = f->block_x < 0 ? 0 : SL__REFINE_TOP;
+  memset(f->marched, 0, (size_t)f->width * f->height);
+  for (int y = 0; y < f->height; ++y)
+    for (int x = 0; x < f->width; ++x)
+      if (x > f->block_x || y > f->block_y || (x % step == 0 && y % step == 0)) list_pixel(f, x, y);
+  return f->count;
+}
+
+static const float *acc_at(const sl__refine *f, int x, int y)
+{
+  return f->acc + ((size_t)y * f->width + x) * f->channels;
+}
+
+/* One channel of a marched point against its prediction from the corners: the transparency by
+ * absolute difference, the others relative to the larger magnitude. NaN never agrees. */
+static int point_agrees(const sl__refine *f, int k, float marched, float predicted)
+{
+  const float tol = (float)f->tolerance, diff = fabsf(marched - predicted);
+  if (k == f->transparency) return marched < 1.0f && diff <= tol;
+  return diff <= tol * fmaxf(fabsf(marched), fabsf(predicted));
+}
+
+/* The block of `size` at (x0, y0) is smooth: its four edge midpoints and its centre agree with
+ * the bilinear interpolation of its corners, every one of the nine met some medium (nine clear rays
+ * can straddle a small cloud), and no opaque surface cuts a ray in it. */
+static int block_smooth(const sl__refine *f, int x0, int y0, int size)
+{
+  const int h = size / 2;
+  const float *c00 = acc_at(f, x0, y0), *c10 = acc_at(f, x0 + size, y0);
+  const float *c01 = acc_at(f, x0, y0 + size), *c11 = acc_at(f, x0 + size, y0 + size);
+  const float *mid[5] = {acc_at(f, x0 + h, y0), acc_at(f, x0, y0 + h), acc_at(f, x0 + h, y0 + h),
+                         acc_at(f, x0 + size, y0 + h), acc_at(f, x0 + h, y0 + size)};
+  for (int k = 0; k < f->channels; ++k) {
+    const float predicted[5] = {0.5f * (c00[k] + c10[k]), 0.5f * (c00[k] + c01[k]),
+                                0.25f * (c00[k] + c10[k] + c01[k] + c11[k]), 0.5f * (c10[k] + c11[k]),
+                                0.5f * (c01[k] + c11[k])};
+    for (int i = 0; i < 5; ++i)
+      if (!point_agrees(f, k, mid[i][k], predicted[i])) return 0;
+    if (k == f->transparency && !(c00[k] < 1.0f && c10[k] < 1.0f && c01[k] < 1.0f && c11[k] < 1.0f)) return 0;
+  }
+  for (int y = y0; y <= y0 + size; ++y)
+    for (int x = x0; x <= x0 + size; ++x)
+      if (f->hard[(size_t)y * f->width + x]) return 0;
+  return 1;
+}
+
+size_t sl__refine_next(sl__refine *f)
+{
+  f->count = 0;
+  if (f->size < SL__REFINE_TOP >> (SL__REFINE_LEVELS - 1)) return 0;
+  const int size = f->size, level = f->size == SL__REFINE_TOP ? 0 : 1, step = size / 4;
+  const int bw = blocks_across(f, size), bh = blocks_down(f, size);
+  unsigned char *state = f->state[level];
+  const unsigned char *parent = level ? f->state[level - 1] : NULL;
+  const int parent_bw = level ? blocks_across(f, 2 * size) : 0;
+  for (int j = 0; j < bh; ++j)
+    for (int i = 0; i < bw; ++i) {
+      unsigned char *s = &state[(size_t)j * bw + i];
+      if (parent && parent[(size_t)(j / 2) * parent_bw + i / 2] != BLOCK_SPLITS) {
+        *s = BLOCK_INACTIVE;
+        continue;
+      }
+      const int x0 = i * size, y0 = j * size;
+      *s = block_smooth(f, x0, y0, size) ? BLOCK_SMOOTH : BLOCK_SPLITS;
+      if (*s == BLOCK_SPLITS)
+        for (int y = y0; y <= y0 + size; y += step)
+          for (int x = x0; x <= x0 + size; x += step) list_pixel(f, x, y);
+    }
+  f->size = size / 2;
+  return f->count;
+}
+
+void sl__refine_fill(sl__refine *f)
+{
+  const int nc = f->channels;
+#pragma omp for schedule(static)
+  for (int y = 0; y <= f->block_y; ++y)
+    for (int x = 0; x <= f->block_x; ++x) {
+      const size_t q = (size_t)y * f->width + x;
+      if (f->marched[q]) continue;
+      /* The pixel lies in a smooth block of some size, whose halfway lattice is marched: a block
+       * of 8 that splits lists its halves' halfway points, and one of 4 every pixel. */
+      for (int level = 0; level < SL__REFINE_LEVELS; ++level) {
+        const int size = SL__REFINE_TOP >> level, half = size / 2;
+        const int bw = blocks_across(f, size), bh = blocks_down(f, size);
+        const int i = x / size < bw ? x / size : bw - 1, j = y / size < bh ? y / size : bh - 1;
+        if (f->state[level][(size_t)j * bw + i] != BLOCK_SMOOTH) continue;
+        /* The quarter of the block holding the pixel (its last row and column in the last). */
+        int x0 = i * size + (x - i * size) / half * half, y0 = j * size + (y - j * size) / half * half;
+        if (x0 == (i + 1) * size) x0 -= half;
+        if (y0 == (j + 1) * size) y0 -= half;
+        const float u = (float)(x - x0) / half, v = (float)(y - y0) / half;
+        const float *a00 = acc_at(f, x0, y0), *a10 = acc_at(f, x0 + half, y0);
+        const float *a01 = acc_at(f, x0, y0 + half), *a11 = acc_at(f, x0 + half, y0 + half);
+        float *out = f->acc + q * nc;
+        for (int k = 0; k < nc; ++k) {
+          const float bottom = a00[k] + u * (a10[k] - a00[k]), top = a01[k] + u * (a11[k] - a01[k]);
+          out[k] = bottom + v * (top - bottom);
+        }
+        break;
+      }
+    }
+}

@@ -1,0 +1,49 @@
+/* Adaptive refinement of an image's rays (after Levoy's "volume rendering by adaptive
+ * refinement", in blocks): march the rays of every SL__REFINE_TOP/2-th pixel first, so that each
+ * block of SL__REFINE_TOP pixels has its corners and the five points halfway between them. Where
+ * those five agree with the bilinear interpolation of the corners within a tolerance, the block is
+ * smooth: its pixels take their accumulators by bilinear interpolation of the nine (a quarter of
+ * the error the test measured, where the image is smooth). Elsewhere the block splits in four,
+ * their halfway points are marched and judged alike, and a block of 4 that splits has every pixel
+ * marched. What is interpolated is the march's accumulator (radiance per wavelength,
+ * transparency, depth numerator); each pixel's own ray still resolves it against the air in front
+ * (sl__resolve_pixel), so the sky and the aerial perspective stay exact. Which rays are marched
+ * depends only on marched values: the image does not depend on the thread count. */
+#ifndef SL_PIXEL_REFINE_H
+#define SL_PIXEL_REFINE_H
+
+#include <stddef.h>
+
+#define SL__REFINE_TOP 8    /* the coarsest block, in pixels */
+#define SL__REFINE_LEVELS 2 /* blocks of 8 and 4 are judged */
+
+typedef struct sl__refine {
+  int width, height, channels;
+  int transparency; /* the channel compared by absolute difference (the others relatively) */
+  double tolerance;
+  int block_x, block_y;            /* the blocked region: pixels x <= block_x, y <= block_y */
+  float *acc;                      /* width * height * channels: the accumulators */
+  unsigned char *marched;          /* per pixel: 1 once its ray is in the list to march */
+  unsigned char *hard;             /* per pixel, set by the caller: 1 where the ray meets an
+                                      opaque surface (a block holding one never interpolates) */
+  unsigned char *state[SL__REFINE_LEVELS]; /* per block of each size: refine_state */
+  int *list;                       /* the pixels to march next */
+  size_t count;
+  int size;                        /* the block size judged next */
+} sl__refine;
+
+/* Room for a width x height image with `channels` floats per pixel; 0 when out of memory. */
+int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance);
+void sl__refine_free(sl__refine *f);
+/* The first list: every SL__REFINE_TOP/2-th pixel of the blocked region and every pixel of the
+ * strips beyond it (narrower than a block). Returns the list's length. */
+size_t sl__refine_first(sl__refine *f);
+/* After the last list's rays are in acc: judges the blocks of the current size whose larger block
+ * split, and lists the halfway points of the halves of those that split too. Returns the list's
+ * length, 0 when every pixel is marched or inside a smooth block. */
+size_t sl__refine_next(sl__refine *f);
+/* Fills every pixel that was not marched from the four marched pixels around it in its smooth block (an orphaned `omp
+ * for`: called from inside a parallel region, the threads share the rows). */
+void sl__refine_fill(sl__refine *f);
+
+#endif
