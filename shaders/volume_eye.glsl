@@ -60,12 +60,12 @@ void main()
       angleIndex = sl_angle_row(u, slAngles);
       angleWeight = sl_angle_weight(u, angleIndex);
     }
-    float dt = sl_march_max_step(slSpacing, d, slMarchSamples);
-    int nsteps = sl_march_steps(t1 - t0, dt);
-    dt = (t1 - t0) / float(max(nsteps, 1));
+    float step = sl_march_max_step(slSpacing, d, slMarchSamples);
+    int nsteps = sl_march_steps(t1 - t0, step);
     vec4 l0 = slSampleLight(slEye + t0 * d);
     for (int s = 0; s < nsteps && T >= slTermination; ++s) {
-      float ta = t0 + float(s) * dt, tm = ta + 0.5 * dt, tb = ta + dt;
+      float ta = t0 + float(s) * step, tb = sl_march_step_end(t0, step, t1, s + 1, nsteps);
+      float dt = tb - ta, tm = ta + 0.5 * dt;
       vec3 x = slEye + tm * d;
       float beta[SL_MAX_FIELDS];
       slSampleFields(x, beta);

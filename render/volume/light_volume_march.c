@@ -192,13 +192,14 @@ static inline __attribute__((always_inline)) int march_step_length(const sl_rend
  * fields; the steps with medium stay, in b->live. */
 static inline __attribute__((always_inline)) void march_batch_steps(const sl_renderer *r, const int nf,
                                                                     const double o[3], const double d[3], double t0,
-                                                                    double dt, int nsteps, double thin_depth,
-                                                                    int size, int *s, march_batch *b, long *samples)
+                                                                    double t1, double dt, int nsteps,
+                                                                    double thin_depth, int size, int *s,
+                                                                    march_batch *b, long *samples)
 {
   int cnt = 0;
   while (cnt < size && *s < nsteps) {
     const int len = march_step_length(r, o, d, t0, dt, nsteps, *s, thin_depth);
-    const double tm = t0 + *s * dt + 0.5 * len * dt;
+    const double ta = t0 + *s * dt, tm = 0.5 * (ta + sl_march_step_end(t0, dt, t1, *s + len, nsteps));
     const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
     (*samples)++;
     if (sl__field_cell_at(r, nf, x, 1, &b->cell[cnt])) {
@@ -221,8 +222,9 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     if (!(beta > 0.0)) continue;
     for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
     b->beta[live] = beta, b->step[live] = b->step[i], b->len[live] = b->len[i];
-    b->dt[live] = b->len[i] * dt;
-    b->tm[live] = t0 + b->step[i] * dt + 0.5 * b->dt[live];
+    const double ta = t0 + b->step[i] * dt;
+    b->dt[live] = sl_march_step_end(t0, dt, t1, b->step[i] + b->len[i], nsteps) - ta;
+    b->tm[live] = ta + 0.5 * b->dt[live];
     live++;
   }
   b->live = live;
@@ -350,15 +352,14 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
     angle_index = sl_angle_row(u, grid_table->n_angles);
     angle_weight = sl_angle_weight(u, angle_index);
   }
-  double dt = sl_march_max_step(r->shape.spacing, d, sl__march_samples(sc));
+  const double dt = sl_march_max_step(r->shape.spacing, d, sl__march_samples(sc));
   const int nsteps = sl_march_steps(t1 - t0, dt);
-  dt = (t1 - t0) / (nsteps > 0 ? nsteps : 1);
   const double depth_per_t = sl_dot3(d, f->fwd);
   memset(b->carried, 0, sizeof b->carried);
   b->carried_end = -1;
   int size = MARCH_FIRST_BATCH, ended = 0;
   for (int s = 0; s < nsteps && !ended;) {
-    march_batch_steps(r, nf, o, d, t0, dt, nsteps, sc->march_thin_depth, size, &s, b, samples);
+    march_batch_steps(r, nf, o, d, t0, t1, dt, nsteps, sc->march_thin_depth, size, &s, b, samples);
     if (size < MARCH_BATCH) size *= 2;
     if (!b->live) continue;
     march_batch_light(r, nwl, f->suntab, sun_lane, o, d, t0, dt, b);

@@ -104,7 +104,9 @@ size_t sl__refine_next(sl__refine *f)
 {
   f->count = 0;
   if (f->size < SL__REFINE_TOP >> (SL__REFINE_LEVELS - 1)) return 0;
-  const int size = f->size, level = f->size == SL__REFINE_TOP ? 0 : 1, step = size / 4;
+  int level = 0;
+  while ((SL__REFINE_TOP >> level) > f->size) level++;
+  const int size = f->size, step = size / 4;
   const int bw = blocks_across(f, size), bh = blocks_down(f, size);
   unsigned char *state = f->state[level];
   const unsigned char *parent = level ? f->state[level - 1] : NULL;

@@ -291,15 +291,24 @@ SL_INLINE SL_REAL sl_angle_weight(SL_REAL u, int row)
   return w > 1.0 ? 1.0 : w;
 }
 
-/* Steps of at most max_step that cover a ray's span through the volume. A span of a whole number
- * of steps (a ray entering and leaving through opposite faces of the box, whose size is a whole
- * number of grid cells) must not gain a step from the last bit of rounding: which way ceil goes
- * there flips from pixel to pixel, and at cloud edges a step more or less moves every sample
- * by up to half a step (measured: 12 % of an edge pixel's optical depth), which shows as speckle
- * and differs between float and double. */
+/* Steps of max_step that cover a ray's span through the volume, the last one shortened to end at
+ * the span's end (sl_march_step_end). A span of a whole number of steps (a ray entering and
+ * leaving through opposite faces of the box, whose size is a whole number of grid cells) must not
+ * gain a sliver of a step from the last bit of rounding, which would differ between float and
+ * double. */
 SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
 {
   return SL_INT(sl_ceil(span / max_step - 1e-3));
+}
+
+/* Where the march's step that ends at step index `end_step` ends along a ray marched from t0 to t1
+ * in nsteps steps of dt: on the lattice t0 + k dt, the last at t1. The steps are not stretched to
+ * fit the span: a stretched step moves every sample wherever the step count changes from one
+ * pixel to the next (by up to half a step halfway along), and on a thick face, whose surface lies
+ * within a step, that drew vertical streaks one or two pixels apart. */
+SL_INLINE SL_REAL sl_march_step_end(SL_REAL t0, SL_REAL dt, SL_REAL t1, int end_step, int nsteps)
+{
+  return end_step >= nsteps ? t1 : t0 + SL_TO_REAL(end_step) * dt;
 }
 
 /* One of sl_segment_scatter_moments_exp's two moments (which = 0 or 1) times a scale s, given s
