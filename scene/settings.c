@@ -81,9 +81,9 @@ const sl_option sl_settings_options[] = {
      "\"Thin steps\"); 0: every step",
      "0", SL_OPTION_NUMBER, 0, 1, NULL, NULL, AT(march_thin_depth), NULL},
     {"march-refine", "TOL",
-     "with --light-volume: march every 8th pixel's ray first and interpolate inside blocks whose\n"
-     "corner rays agree within this fraction, refining the others down to every pixel (docs/\n"
-     "ACCURACY.md, \"Adaptive pixels\"); 0: a ray per pixel",
+     "with --light-volume: march every 4th pixel's ray first and interpolate inside blocks whose\n"
+     "halfway rays agree with their corners' within this fraction, refining the others down to\n"
+     "every pixel (docs/ACCURACY.md, \"Adaptive pixels\"); 0: a ray per pixel",
      "0", SL_OPTION_NUMBER, 0, 1, NULL, NULL, AT(march_refine_tolerance), NULL},
     {"skylight", "on|off",
      "the sky dome's light scattered by the volume too (shadowed faces lit blue, a dark base over\n"

@@ -42,8 +42,8 @@ size_t sl__refine_first(sl__refine *f);
  * split, and lists the halfway points of the halves of those that split too. Returns the list's
  * length, 0 when every pixel is marched or inside a smooth block. */
 size_t sl__refine_next(sl__refine *f);
-/* Fills every pixel that was not marched from the four marched pixels around it in its smooth block (an orphaned `omp
- * for`: called from inside a parallel region, the threads share the rows). */
+/* Fills every pixel that was not marched from the four marched pixels around it in its smooth
+ * block (an orphaned `omp for`: called from inside a parallel region, the threads share the rows). */
 void sl__refine_fill(sl__refine *f);
 
 #endif

@@ -69,10 +69,10 @@ typedef struct sl_scene {
    * samples stay on the lattice of the short steps (docs/ACCURACY.md, "Thin steps"). */
   double march_thin_depth;
   /* The light-volume march's adaptive refinement (render/volume/pixel_refine.h; 0: a ray per
-   * pixel). The rays of every 8th pixel are marched first; where a block's four corner rays agree
-   * within this fraction (radiance, depth, and transparency as an absolute difference) the pixels
-   * inside are interpolated, elsewhere the block splits, down to every pixel (docs/ACCURACY.md,
-   * "Adaptive pixels"). */
+   * pixel). The rays of every 4th pixel are marched first; where a block's halfway rays agree with
+   * the interpolation of its corner rays within this fraction (radiance and depth relatively, the
+   * transparency as a difference) the pixels inside are interpolated, elsewhere the block splits,
+   * down to every pixel (docs/ACCURACY.md, "Adaptive pixels"). */
   double march_refine_tolerance;
   /* 1: the sky dome lights the volume too (render/volume/sky_light.h: its diffuse light,
    * transmittance-weighted over the dome, gathered isotropically; docs/ACCURACY.md, "Skylight");

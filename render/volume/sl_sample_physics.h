@@ -305,7 +305,7 @@ SL_INLINE int sl_march_steps(SL_REAL span, SL_REAL max_step)
  * in nsteps steps of dt: on the lattice t0 + k dt, the last at t1. The steps are not stretched to
  * fit the span: a stretched step moves every sample wherever the step count changes from one
  * pixel to the next (by up to half a step halfway along), and on a thick face, whose surface lies
- * within a step, that drew vertical streaks one or two pixels apart. */
+ * within a step, that drew speckle (tests/volume/test_march_streaks.c). */
 SL_INLINE SL_REAL sl_march_step_end(SL_REAL t0, SL_REAL dt, SL_REAL t1, int end_step, int nsteps)
 {
   return end_step >= nsteps ? t1 : t0 + SL_TO_REAL(end_step) * dt;
