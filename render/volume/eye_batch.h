@@ -6,6 +6,7 @@
 #define SL_EYE_BATCH_H
 
 #include "light_kink.h"
+#include "segment_parts.h"
 #include "sky_light_gather.h"
 #include "sl_sample_physics.h"
 #include "slicer.h"
@@ -17,31 +18,20 @@
 #define EYE_BATCH 32
 _Static_assert(EYE_BATCH == SL__SKY_BATCH, "the skylight gather's rows are an eye batch");
 
-/* The parts an eye sample's segment is taken in: one where the segment is optically thin (below
- * EYE_THIN at its middle), else parts whose bounds lie at optical depths 1/8, 1/4, 1/2 and 1 from
- * where the medium starts in the segment, then the rest, found on a profile of the total
- * extinction at EYE_PROFILE equal steps; each part has its profile's mean extinction, in the mix
- * of fields of the profile step that holds its optical depth's middle. A thick segment's light comes from its first mean free path; parts
- * fixed in length put the cloud's surface at a different place in its part in every slab, and
- * the error that left drew bands along the slices on thick surfaces. Parts fixed in optical depth
- * follow the surface instead, wherever the slab's planes cut it (tests/volume/test_stripes). */
-#define EYE_THIN 0.0625
-#define EYE_PART_DEPTH 0.125
-#define EYE_PARTS_MAX 5
-#define EYE_PROFILE 8
-#define EYE_CLEAR 1e-4
+/* The parts an eye sample's segment is taken in (sl_segment_parts: one where it is optically
+ * thin, else parts fixed in optical depth from a profile of its total extinction), so that they
+ * follow a thick cloud's surface wherever the slab's planes cut it: parts fixed in length drew
+ * bands along the slices on thick surfaces (tests/volume/test_stripes). */
 /* The optical depth of a part's light path within its slab, at its own extinction, above which
  * the path's own medium is integrated (eye_batch_light). */
 #define EYE_PATH_DEPTH 0.05
 
 /* Whether pixel q's ray, front to back, is already so deep in the medium (its transparency below
- * EYE_DEEP) that what lies behind adds less than that to its light: a thick segment there is
- * taken as one part at its middle's fields, with its part's own extinction along its light path,
- * as thin ones are. */
-#define EYE_DEEP 1e-3
+ * SL_PART_DEEP) that a thick segment there is taken as one part at its middle's fields, with its
+ * part's own extinction along its light path, as thin ones are. */
 static inline int eye_deep(const slicer_frame *f, const int nwl, const int q)
 {
-  return !f->back_to_front && f->acc[(size_t)q * (nwl + 2) + nwl] < EYE_DEEP;
+  return !f->back_to_front && f->acc[(size_t)q * (nwl + 2) + nwl] < SL_PART_DEEP;
 }
 
 /* The table look-ups of a batch of eye samples, in one loop over the samples that vectorises
@@ -152,13 +142,13 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
   const double *ray = f->ray, *o = f->cam->position;
   const int back_to_front = f->back_to_front;
   int live = 0;
-  for (; si < cnt && live <= EYE_BATCH - EYE_PARTS_MAX; ++si) {
+  for (; si < cnt && live <= EYE_BATCH - SL_PARTS_MAX; ++si) {
     float v[SL__FIELD_LANES];
     sl__field_fetch(r, nf, &cells[si], v);
     double beta_mid = 0.0;
     for (int j = 0; j < nf; ++j) beta_mid += v[j];
     if (!(beta_mid > 0.0)) continue;
-    if (beta_mid * slen[si] < EYE_THIN || eye_deep(f, nwl, sq[si])) {
+    if (beta_mid * slen[si] < SL_PART_THIN || eye_deep(f, nwl, sq[si])) {
       for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
       b->q[live] = sq[si], b->mid[live] = smid[si], b->len[live] = slen[si], b->beta[live] = beta_mid;
       b->sky_t[live] = smid[si], b->sky_first[live] = 1;
@@ -166,36 +156,12 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       continue;
     }
     const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
-    const double t_near = smid[si] - 0.5 * slen[si], step = slen[si] / EYE_PROFILE;
-    /* The total extinction at each profile step's middle, and the optical depth from the segment's
-     * start at each profile point (no end point is read: a segment may end on the box's face,
-     * where the medium stops). */
-    double step_beta[EYE_PROFILE], tau[EYE_PROFILE + 1];
-    tau[0] = 0.0;
-    for (int k = 0; k < EYE_PROFILE; ++k) {
-      const double t = t_near + (k + 0.5) * step;
-      const double x[3] = {o[0] + t * rq[0], o[1] + t * rq[1], o[2] + t * rq[2]};
-      step_beta[k] = sl_grid_sample(&r->beta_view, x); /* r->beta, the fields' total */
-      tau[k + 1] = tau[k] + step * step_beta[k];
-    }
-    const double depth = tau[EYE_PROFILE];
+    const double t_near = smid[si] - 0.5 * slen[si], step = slen[si] / SL_PART_PROFILE;
+    double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
+    const double depth = sl__segment_profile(r, o, rq, t_near, step, step_beta, tau);
     if (!(depth > 0.0)) continue;
-    /* The parts' bounds in optical depth (tau_at) and along the segment (t_at; tau is piecewise
-     * linear between the profile's points). The first part starts where the medium does: a clear
-     * stretch before it (optical depth below EYE_CLEAR) belongs to no part. */
-    double t_at[EYE_PARTS_MAX + 1], tau_at[EYE_PARTS_MAX + 1];
-    int parts = 0, k = 0;
-    while (k < EYE_PROFILE - 1 && tau[k + 1] < EYE_CLEAR) k++;
-    t_at[0] = t_near + k * step, tau_at[0] = 0.0;
-    for (double bound = EYE_PART_DEPTH; tau_at[parts] < depth; bound *= 2.0) {
-      const double want = parts == EYE_PARTS_MAX - 1 || bound > depth ? depth : bound;
-      while (k < EYE_PROFILE - 1 && tau[k + 1] < want) k++;
-      const double span = tau[k + 1] - tau[k];
-      const double frac = span > 0.0 ? fmin(fmax((want - tau[k]) / span, 0.0), 1.0) : 1.0;
-      parts++;
-      t_at[parts] = t_near + (k + frac) * step, tau_at[parts] = want;
-    }
-    t_at[parts] = t_near + slen[si]; /* the last part takes the segment's clear end too */
+    double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
+    const int parts = sl_segment_parts(tau, t_near, step, t_near + slen[si], t_at, tau_at);
     /* A segment shorter than the skylight lattice's spacing, over which M barely changes, takes one
      * look-up for all its parts (a look-up per part was most of the skylight's cost), at the
      * optical depth tau_sky from the medium's start that the light it sends toward the eye has
@@ -208,7 +174,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     if (sky_shared) {
       const double tau_sky = depth < 1e-3 ? 0.5 * depth : 1.0 - depth / expm1(depth);
       int k_sky = 0;
-      while (k_sky < EYE_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
+      while (k_sky < SL_PART_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
       const double span = tau[k_sky + 1] - tau[k_sky];
       sky_t = t_near + (k_sky + (span > 0.0 ? fmin(fmax((tau_sky - tau[k_sky]) / span, 0.0), 1.0) : 0.5)) * step;
     }
@@ -218,22 +184,9 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       const int part = back_to_front ? parts - 1 - p : p;
       const double len = t_at[part + 1] - t_at[part], mid = 0.5 * (t_at[part] + t_at[part + 1]);
       if (!(len > 0.0 && tau_at[part + 1] > tau_at[part])) continue;
-      /* The part's fields: their mix at the profile step that holds the middle of the part's
-       * optical depth (a point inside the medium, where the part's middle may lie in clear air),
-       * scaled to the part's mean extinction on the profile. */
-      const double half = 0.5 * (tau_at[part] + tau_at[part + 1]);
-      int k_mix = 0;
-      while (k_mix < EYE_PROFILE - 1 && !(tau[k_mix + 1] >= half && step_beta[k_mix] > 0.0)) k_mix++;
-      const double t_mix = t_near + (k_mix + 0.5) * step;
-      const double x[3] = {o[0] + t_mix * rq[0], o[1] + t_mix * rq[1], o[2] + t_mix * rq[2]};
-      float *fields = b->fields[live];
-      sl__sample_fields_n(r, nf, x, fields);
-      double beta = 0.0;
-      for (int j = 0; j < nf; ++j) beta += fields[j];
+      const double beta = sl__segment_part_fields(r, nf, o, rq, t_near, step, step_beta, tau, tau_at[part],
+                                                   tau_at[part + 1], len, b->fields[live]);
       if (!(beta > 0.0)) continue;
-      const double mean = (tau_at[part + 1] - tau_at[part]) / len, scale = mean / beta;
-      for (int j = 0; j < nf; ++j) fields[j] = (float)(fields[j] * scale);
-      beta = mean;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;
       b->sky_t[live] = sky_shared ? sky_t : mid, b->sky_first[live] = sky_first || !sky_shared;
       sky_first = 0;

@@ -14,6 +14,7 @@
 
 #include "light_volume.h"
 #include "pixel_refine.h"
+#include "segment_parts.h"
 #include "sky_light_gather.h"
 #include "sl_sample_physics.h"
 #include "vector_math.h"
@@ -136,25 +137,29 @@ static inline __attribute__((always_inline)) void march_batch_phases(const sl_li
   }
 }
 
-/* A batch of a ray's march steps: per step, and per wavelength and step (or point: a step's two
- * ends, shared between neighbours), in arrays that the stages' vector loops read; and the light at
- * the end of the last step gathered, carried into the next batch when its first step follows. */
+/* A batch of a ray's march segments (a step, several thin steps as one, or a part of a thick step:
+ * march_batch_steps): per segment, and per wavelength and segment (or point: a segment's two ends,
+ * shared between neighbours), in arrays that the stages' vector loops read; and the light at the
+ * end of the last segment gathered, carried into the next batch when its first segment follows. */
 typedef struct march_batch {
-  double beta[MARCH_BATCH], tm[MARCH_BATCH], n[MARCH_BATCH], opacity[MARCH_BATCH];
-  double m0[MARCH_BATCH], m1[MARCH_BATCH], inv_beta[MARCH_BATCH];
+  double beta[MARCH_BATCH], ta[MARCH_BATCH], te[MARCH_BATCH], tm[MARCH_BATCH], n[MARCH_BATCH];
+  double m0[MARCH_BATCH], m1[MARCH_BATCH], inv_beta[MARCH_BATCH], opacity[MARCH_BATCH];
   double phase[SL_MAX_WAVELENGTHS][MARCH_BATCH], sun[SL_MAX_WAVELENGTHS][MARCH_BATCH];
   double l0[SL_MAX_WAVELENGTHS][MARCH_BATCH], l1[SL_MAX_WAVELENGTHS][MARCH_BATCH];
   double radiance[SL_MAX_WAVELENGTHS][MARCH_BATCH];
-  float sky[MARCH_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M at each step's middle */
+  float sky[MARCH_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M at each segment's middle */
   double p_t[MARCH_POINTS], p_state[SL_MAX_WAVELENGTHS + 1][MARCH_POINTS];
   lv_cell p_cell[MARCH_POINTS];
   sl__field_cell cell[MARCH_BATCH];
+  float raw[MARCH_BATCH][SL__FIELD_LANES]; /* the fields at each found step's middle */
   float fields[MARCH_BATCH][SL_MAX_FIELDS];
   double dt[MARCH_BATCH];
-  int step[MARCH_BATCH], len[MARCH_BATCH], start[MARCH_BATCH], end[MARCH_BATCH];
+  int step[MARCH_BATCH], len[MARCH_BATCH]; /* the steps found, in steps of the ray's dt */
+  int start[MARCH_BATCH], end[MARCH_BATCH];
   int live;
   double carried[SL_MAX_WAVELENGTHS + 1];
-  int carried_end; /* the step index where the previous batch's last step ended */
+  double carried_t; /* where the previous batch's last segment ended (NaN: none) */
+  int done_end;     /* the step index where the last step the batches took ended (-1: none) */
 } march_batch;
 
 /* The longest step, in steps of dt, that the march may take from step s (sl_scene.march_thin_depth):
@@ -187,14 +192,70 @@ static inline __attribute__((always_inline)) int march_step_length(const sl_rend
   return 1;
 }
 
+/* A segment [ta, te] of the ray into the batch, with the fields v and their total beta. */
+static inline __attribute__((always_inline)) void march_batch_add(const int nf, march_batch *b, double ta, double te,
+                                                                  const float *v, double beta)
+{
+  const int i = b->live++;
+  for (int j = 0; j < nf; ++j) b->fields[i][j] = v[j];
+  b->beta[i] = beta, b->ta[i] = ta, b->te[i] = te, b->dt[i] = te - ta, b->tm[i] = ta + 0.5 * b->dt[i];
+}
+
+/* A thick step [ta, te] of the ray o + t d into the batch in parts fixed in optical depth
+ * (sl_segment_parts), on a profile of its total extinction, each part at its profile's mean
+ * extinction in the mix of fields where its optical depth's middle lies; returns the step's
+ * optical depth. The surface of a cloud inside the step is then where its extinction puts it,
+ * not at the step's sample: two samples per cell fell on each side of it by where each ray's
+ * lattice began, and drew streaks across the rays where a box face is seen obliquely. */
+static inline __attribute__((always_inline)) double march_thick_step(const sl_renderer *r, const int nf,
+                                                                     const double o[3], const double d[3],
+                                                                     double ta, double te, march_batch *b)
+{
+  const double step = (te - ta) / SL_PART_PROFILE;
+  double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
+  const double depth = sl__segment_profile(r, o, d, ta, step, step_beta, tau);
+  if (!(depth > 0.0)) return 0.0;
+  double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
+  const int parts = sl_segment_parts(tau, ta, step, te, t_at, tau_at);
+  for (int p = 0; p < parts; ++p) {
+    const double len = t_at[p + 1] - t_at[p];
+    if (!(len > 0.0 && tau_at[p + 1] > tau_at[p])) continue;
+    float v[SL_MAX_FIELDS];
+    const double beta = sl__segment_part_fields(r, nf, o, d, ta, step, step_beta, tau, tau_at[p], tau_at[p + 1], len, v);
+    if (beta > 0.0) march_batch_add(nf, b, t_at[p], t_at[p + 1], v, beta);
+  }
+  return depth;
+}
+
+/* The optical depth of the ray's step `s` (one of dt) by its middle's extinction: 0 past the last. */
+static inline __attribute__((always_inline)) double march_step_depth(const sl_renderer *r, const int nf,
+                                                                     const double o[3], const double d[3],
+                                                                     double t0, double t1, double dt, int nsteps,
+                                                                     int s)
+{
+  if (s >= nsteps) return 0.0;
+  const double ta = t0 + s * dt, te = sl_march_step_end(t0, dt, t1, s + 1, nsteps), tm = 0.5 * (ta + te);
+  const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
+  float v[SL_MAX_FIELDS];
+  if (!sl__sample_fields_n(r, nf, x, v)) return 0.0;
+  double beta = 0.0;
+  for (int j = 0; j < nf; ++j) beta += v[j];
+  return beta * (te - ta);
+}
+
 /* The ray's next steps from *s in occupied bricks, up to `size`, their cells prefetched; empty
  * bricks jumped (every step whose midpoint lies before a brick's exit samples nothing). Then their
- * fields; the steps with medium stay, in b->live. */
+ * fields, and the batch's segments: a step whose middle holds medium as one segment, or in parts
+ * (march_thick_step) where its own optical depth or the next step's is SL_PART_THIN or more (the
+ * surface of a cloud may lie in this step's far half while its middle is clear) and the ray's
+ * transparency (`transparency` at the batch's start) is still SL_PART_DEEP or more; a thick step
+ * after empty bricks takes the step before it in parts too, as a march through them would. Steps
+ * whose parts would overflow the batch are left to the next (*s moves back to the first of them). */
 static inline __attribute__((always_inline)) void march_batch_steps(const sl_renderer *r, const int nf,
                                                                     const double o[3], const double d[3], double t0,
                                                                     double t1, double dt, int nsteps,
-                                                                    double thin_depth, int size, int *s,
-                                                                    march_batch *b, long *samples)
+                                                                    double thin_depth, int size, double transparency,
+                                                                    int *s, march_batch *b, long *samples)
 {
   int cnt = 0;
   while (cnt < size && *s < nsteps) {
@@ -213,43 +274,66 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     const int next = exit >= 0.0 ? (int)ceil((tm + exit - t0) / dt - 0.5) : *s + 1;
     *s = next > *s ? next : *s + 1;
   }
-  int live = 0;
+  double step_depth[MARCH_BATCH];
   for (int i = 0; i < cnt; ++i) {
-    float v[SL__FIELD_LANES];
-    sl__field_fetch(r, nf, &b->cell[i], v);
+    sl__field_fetch(r, nf, &b->cell[i], b->raw[i]);
     double beta = 0.0;
-    for (int j = 0; j < nf; ++j) beta += v[j];
-    if (!(beta > 0.0)) continue;
-    for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
-    b->beta[live] = beta, b->step[live] = b->step[i], b->len[live] = b->len[i];
+    for (int j = 0; j < nf; ++j) beta += b->raw[i][j];
     const double ta = t0 + b->step[i] * dt;
-    b->dt[live] = sl_march_step_end(t0, dt, t1, b->step[i] + b->len[i], nsteps) - ta;
-    b->tm[live] = ta + 0.5 * b->dt[live];
-    live++;
+    step_depth[i] = beta * (sl_march_step_end(t0, dt, t1, b->step[i] + b->len[i], nsteps) - ta);
   }
-  b->live = live;
+  /* Past this optical depth from the batch's start the ray's transparency is below SL_PART_DEEP. */
+  const double deep = log(transparency / SL_PART_DEEP);
+  double depth = 0.0;
+  int i = 0;
+  b->live = 0;
+  for (; i < cnt && b->live <= MARCH_BATCH - 2 * SL_PARTS_MAX; ++i) {
+    const int next = b->step[i] + b->len[i];
+    const double ta = t0 + b->step[i] * dt, te = sl_march_step_end(t0, dt, t1, next, nsteps);
+    int thick = 0;
+    if (depth < deep) {
+      thick = step_depth[i] >= SL_PART_THIN;
+      const int before = i > 0 ? b->step[i - 1] + b->len[i - 1] : b->done_end;
+      /* The step before, jumped as empty at its middle: the surface may begin in its far half. */
+      if (thick && b->step[i] > 0 && before != b->step[i])
+        depth += march_thick_step(r, nf, o, d, t0 + (b->step[i] - 1) * dt, ta, b);
+      if (!thick) {
+        const double next_depth = i + 1 < cnt ? (b->step[i + 1] == next ? step_depth[i + 1] : 0.0)
+                                              : march_step_depth(r, nf, o, d, t0, t1, dt, nsteps, next);
+        thick = next_depth >= SL_PART_THIN;
+      }
+    }
+    if (thick) depth += march_thick_step(r, nf, o, d, ta, te, b);
+    else if (step_depth[i] > 0.0) {
+      double beta = 0.0;
+      for (int j = 0; j < nf; ++j) beta += b->raw[i][j];
+      march_batch_add(nf, b, ta, te, b->raw[i], beta);
+      depth += step_depth[i];
+    }
+  }
+  if (i < cnt) *s = b->step[i];
+  if (i > 0) b->done_end = b->step[i - 1] + b->len[i - 1];
 }
 
-/* The light at each step's two ends from the light volume (a step that follows the one before it
- * directly shares that one's end; the first, the previous batch's), its mean n, and the sunlight
- * at each step's middle. */
+/* The light at each segment's two ends from the light volume (a segment that begins where the one
+ * before it ended shares that one's end; the first, the previous batch's), its mean n, and the
+ * sunlight at each segment's middle. */
 static inline __attribute__((always_inline)) void march_batch_light(const sl_renderer *r, const int nwl,
                                                                     const sun_table *suntab,
                                                                     const sl__sun_lane *sun_lane, const double o[3],
-                                                                    const double d[3], double t0, double dt,
-                                                                    march_batch *b)
+                                                                    const double d[3], march_batch *b)
 {
   const int live = b->live;
   int npts = 0, first_fetched = 0;
-  if (b->step[0] == b->carried_end) {
+  if (b->ta[0] == b->carried_t) {
     for (int c = 0; c <= nwl; ++c) b->p_state[c][0] = b->carried[c];
     npts = first_fetched = 1;
   }
   for (int i = 0; i < live; ++i) {
     if (i == 0 && first_fetched) b->start[i] = 0;
-    else if (i > 0 && b->step[i] == b->step[i - 1] + b->len[i - 1]) b->start[i] = b->end[i - 1];
-    else b->p_t[b->start[i] = npts++] = t0 + b->step[i] * dt;
-    b->p_t[b->end[i] = npts++] = t0 + b->step[i] * dt + b->dt[i];
+    else if (i > 0 && b->ta[i] == b->te[i - 1]) b->start[i] = b->end[i - 1];
+    else b->p_t[b->start[i] = npts++] = b->ta[i];
+    b->p_t[b->end[i] = npts++] = b->te[i];
   }
   for (int k = first_fetched; k < npts; ++k) {
     const double x[3] = {o[0] + b->p_t[k] * d[0], o[1] + b->p_t[k] * d[1], o[2] + b->p_t[k] * d[2]};
@@ -272,7 +356,7 @@ static inline __attribute__((always_inline)) void march_batch_light(const sl_ren
     if (r->sky.radiance) sl__sky_light_at(&r->sky, x, b->sky[i]);
   }
   for (int c = 0; c <= nwl; ++c) b->carried[c] = b->p_state[c][b->end[live - 1]];
-  b->carried_end = b->step[live - 1] + b->len[live - 1];
+  b->carried_t = b->te[live - 1];
 }
 
 /* Eq. 26's angular term over only the fields the batch holds (bitwise the same), then the light
@@ -356,13 +440,14 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
   const int nsteps = sl_march_steps(t1 - t0, dt);
   const double depth_per_t = sl_dot3(d, f->fwd);
   memset(b->carried, 0, sizeof b->carried);
-  b->carried_end = -1;
+  b->carried_t = NAN;
+  b->done_end = -1;
   int size = MARCH_FIRST_BATCH, ended = 0;
   for (int s = 0; s < nsteps && !ended;) {
-    march_batch_steps(r, nf, o, d, t0, t1, dt, nsteps, sc->march_thin_depth, size, &s, b, samples);
+    march_batch_steps(r, nf, o, d, t0, t1, dt, nsteps, sc->march_thin_depth, size, a[nwl], &s, b, samples);
     if (size < MARCH_BATCH) size *= 2;
     if (!b->live) continue;
-    march_batch_light(r, nwl, f->suntab, sun_lane, o, d, t0, dt, b);
+    march_batch_light(r, nwl, f->suntab, sun_lane, o, d, b);
     march_batch_scatter(&r->model, subsets, r->sky.radiance != NULL, nf, nwl, angle_index, angle_weight, b);
     ended = march_batch_composite(nwl, b, depth_per_t, sc->termination_transparency, a);
   }

@@ -368,6 +368,66 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
   sl_segment_scatter_moments_exp(beta, len, rate, sl_exp(-beta * rate * len), result);
 }
 
+/* ---- A thick eye segment's parts in optical depth (the slicer's eye_batch.h, the march's
+ * light_volume_march.c and shaders/volume_eye.glsl) ---- */
+
+/* A segment is taken whole where it is optically thin (below SL_PART_THIN at its middle), else in
+ * parts whose bounds lie at optical depths 1/8, 1/4, 1/2 and 1 from where the medium starts in it
+ * (optical depth SL_PART_CLEAR), then the rest, found on a profile of its total extinction at
+ * SL_PART_PROFILE equal steps. A thick segment's light comes from its first mean free path, and a
+ * cloud's surface is a ramp of extinction within one grid cell: parts fixed in length put that
+ * surface at a different place in its part wherever the samples fall, which draws bands along
+ * slices and streaks across a march's rays; parts fixed in optical depth follow the surface.
+ * Behind a front already below SL_PART_DEEP of transparency a thick segment is one part, as a
+ * thin one is (what lies there adds less than that). */
+#define SL_PART_THIN 0.0625
+#define SL_PART_DEPTH 0.125
+#define SL_PARTS_MAX 5
+#define SL_PART_PROFILE 8
+#define SL_PART_CLEAR 1e-4
+#define SL_PART_DEEP 1e-3
+
+/* The parts of a segment from t_near to t_far profiled at SL_PART_PROFILE steps of `step` (tau:
+ * the optical depth from t_near at each profile point, tau[SL_PART_PROFILE] > 0 the whole): their
+ * bounds along the ray t_at[0..parts] and in optical depth tau_at[0..parts] (tau piecewise linear
+ * between the profile's points); returns parts. The first part starts at the profile point before
+ * the medium does (a clear stretch before it belongs to no part); the last takes the segment's
+ * clear end too and ends at t_far exactly, so that the next segment's light look-up is shared. */
+SL_INLINE int sl_segment_parts(SL_IN_ARRAY(SL_REAL, tau, SL_PART_PROFILE + 1), SL_REAL t_near, SL_REAL step,
+                               SL_REAL t_far, SL_OUT_ARRAY(SL_REAL, t_at, SL_PARTS_MAX + 1),
+                               SL_OUT_ARRAY(SL_REAL, tau_at, SL_PARTS_MAX + 1))
+{
+  SL_REAL depth = tau[SL_PART_PROFILE];
+  int parts = 0, k = 0;
+  while (k < SL_PART_PROFILE - 1 && tau[k + 1] < SL_PART_CLEAR) k++;
+  t_at[0] = t_near + SL_TO_REAL(k) * step;
+  tau_at[0] = 0.0;
+  SL_REAL bound = SL_PART_DEPTH;
+  while (parts < SL_PARTS_MAX && tau_at[parts] < depth) {
+    SL_REAL want = parts == SL_PARTS_MAX - 1 || bound > depth ? depth : bound;
+    while (k < SL_PART_PROFILE - 1 && tau[k + 1] < want) k++;
+    SL_REAL span = tau[k + 1] - tau[k];
+    SL_REAL frac = span > 0.0 ? sl_fmin(sl_fmax((want - tau[k]) / span, 0.0), 1.0) : 1.0;
+    parts++;
+    t_at[parts] = t_near + (SL_TO_REAL(k) + frac) * step;
+    tau_at[parts] = want;
+    bound *= 2.0;
+  }
+  t_at[parts] = t_far;
+  return parts;
+}
+
+/* The profile step whose fields stand for the part whose optical depth's middle is tau_mid: the
+ * first that reaches it and holds medium (a point inside the medium, where the part's middle may
+ * lie in clear air). The part takes that step's mix of fields, scaled to its own mean extinction. */
+SL_INLINE int sl_segment_part_mix_step(SL_IN_ARRAY(SL_REAL, tau, SL_PART_PROFILE + 1),
+                                       SL_IN_ARRAY(SL_REAL, step_beta, SL_PART_PROFILE), SL_REAL tau_mid)
+{
+  int k = 0;
+  while (k < SL_PART_PROFILE - 1 && !(tau[k + 1] >= tau_mid && step_beta[k] > 0.0)) k++;
+  return k;
+}
+
 /* ---- The eye march over the light volume (light_volume_march.c, shaders/volume_eye.glsl) ---- */
 
 /* The longest step along a ray of direction d (unit) that stays within 1/samples of a grid cell
