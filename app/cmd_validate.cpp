@@ -155,8 +155,8 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
   for (double xi : {0.0, 0.01, 0.02, 0.03, 0.075, 0.1, 0.15, 0.2, 0.3})
     if (xi != base.xi) add("xi", "xi " + fmt("%g", xi), [xi](Setting &s) { s.xi = xi; });
   add("light volume", "light volume", [](Setting &s) { s.light_volume = true; });
-  for (int n : {1, 4})
-    add("light volume", "light volume, " + std::to_string(n) + (n == 1 ? " sample" : " samples") + " per cell",
+  for (int n : {2, 4})
+    add("light volume", "light volume, " + std::to_string(n) + " samples per cell",
         [n](Setting &s) { s.light_volume = true, s.march_samples = n; });
   add("light volume", "light volume, thin steps 0.3",
       [](Setting &s) { s.light_volume = true, s.march_thin_depth = 0.3; });

@@ -204,12 +204,12 @@ class Viewer {
     for (sl_image *img : {&hdr, &volume, &background}) sl_image_free(img);
   }
 
-  // render's --march-samples as the state carries it (2 when not given).
+  // render's --march-samples as the state carries it (1 when not given).
   int march_samples() const
   {
     for (const auto &kv : state.options)
       if (kv.first == "march-samples") return std::atoi(kv.second.c_str());
-    return 2;
+    return 1;
   }
   void set_option(const std::string &name, const std::string &value)
   {

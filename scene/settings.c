@@ -72,9 +72,9 @@ const sl_option sl_settings_options[] = {
     {"light-volume", NULL, "light a cached view-independent light volume once, then ray-march (fast camera moves)",
      NULL, SL_OPTION_FLAG, 0, 0, NULL, NULL, AT(light_volume), NULL},
     {"march-samples", "N",
-     "with --light-volume or --gpu: eye samples per grid cell along a ray, 1..8 (fewer is\n"
-     "faster and coarser on thick cloud surfaces; docs/ACCURACY.md)",
-     "2", SL_OPTION_INT, 1, 8, NULL, NULL, AT(march_samples), NULL},
+     "with --light-volume or --gpu: eye samples per grid cell along a ray, 1..8 (more is\n"
+     "slower and nearer the march's limit; docs/ACCURACY.md, \"The march's steps\")",
+     "1", SL_OPTION_INT, 1, 8, NULL, NULL, AT(march_samples), NULL},
     {"march-thin-depth", "T",
      "with --light-volume: where two or four steps through a thin brick add up to at most this optical\n"
      "depth, take them as one (fewer samples through thin anvils, rain and haze; docs/ACCURACY.md,\n"

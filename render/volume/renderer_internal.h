@@ -424,8 +424,9 @@ void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const doub
 double sl__optical_depth(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1,
                          double step, double stop, double *t_stop);
 
-/* The light-volume march's samples per grid cell (sl_scene.march_samples, 0 meaning 2). */
-static inline int sl__march_samples(const sl_scene *sc) { return sc->march_samples > 0 ? sc->march_samples : 2; }
+/* The light-volume march's samples per grid cell (sl_scene.march_samples, 0 meaning 1: with thick
+ * steps in parts, one per cell is nearer 8 than two taken whole were, docs/ACCURACY.md). */
+static inline int sl__march_samples(const sl_scene *sc) { return sc->march_samples > 0 ? sc->march_samples : 1; }
 
 /* A frame of the half-angle slicer (slicer.c); fwd, right, up: the camera's basis. */
 int sl__render_slicer(sl_renderer *r, const sl_camera *cam, const double fwd[3], const double right[3],

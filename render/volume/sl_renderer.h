@@ -59,8 +59,8 @@ typedef struct sl_scene {
    * frames with a ray-marching eye pass (camera moves then cost only that pass); 0: half-angle
    * slicing per frame, the paper's method. */
   int light_volume;
-  /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 2). Fewer is faster
-   * in proportion and coarser on optically thick surfaces (docs/ACCURACY.md). */
+  /* The light-volume eye march's samples per grid cell along a ray (1..8; 0: 1). More is slower
+   * in proportion and nearer the march's limit (docs/ACCURACY.md, "The march's steps"). */
   int march_samples;
   /* The light-volume march's largest optical depth for a longer step (0: every step is 1/march_samples
    * of a cell). Where a step's 8^3 brick is thin enough that two or four steps together stay below

@@ -27,7 +27,7 @@ static void test_defaults(void)
   CHECK_CLOSE(s.sky[1], 0.055, 0, 0);
   CHECK_CLOSE(s.lights_color[1], 0.29, 0, 0);
   CHECK(s.lighting == SL_LIGHTING_MULTIPLE && !s.spectral && !s.flat_earth && !s.curvature_drop);
-  CHECK(s.max_fields == SL_VOLUME_MAX_FIELDS && s.march_samples == 2 && s.stride == 1);
+  CHECK(s.max_fields == SL_VOLUME_MAX_FIELDS && s.march_samples == 1 && s.stride == 1);
   /* Defaults are not "given": a scene that sets nothing places the sun from the file's time. */
   int given = 0;
   for (int i = 0; i < sl_settings_option_count; ++i) given += s.given[i];
