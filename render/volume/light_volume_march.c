@@ -160,6 +160,7 @@ typedef struct march_batch {
   double carried[SL_MAX_WAVELENGTHS + 1];
   double carried_t; /* where the previous batch's last segment ended (NaN: none) */
   int done_end;     /* the step index where the last step the batches took ended (-1: none) */
+  int pending;      /* steps found and fetched that the last batch had no room for: the next's first */
 } march_batch;
 
 /* The longest step, in steps of dt, that the march may take from step s (sl_scene.march_thin_depth):
@@ -250,14 +251,15 @@ static inline __attribute__((always_inline)) double march_step_depth(const sl_re
  * surface of a cloud may lie in this step's far half while its middle is clear) and the ray's
  * transparency (`transparency` at the batch's start) is still SL_PART_DEEP or more; a thick step
  * after empty bricks takes the step before it in parts too, as a march through them would. Steps
- * whose parts would overflow the batch are left to the next (*s moves back to the first of them). */
+ * whose parts would overflow the batch are left to the next (b->pending: its first steps). */
 static inline __attribute__((always_inline)) void march_batch_steps(const sl_renderer *r, const int nf,
                                                                     const double o[3], const double d[3], double t0,
                                                                     double t1, double dt, int nsteps,
                                                                     double thin_depth, int size, double transparency,
                                                                     int *s, march_batch *b, long *samples)
 {
-  int cnt = 0;
+  const int kept = b->pending;
+  int cnt = kept;
   while (cnt < size && *s < nsteps) {
     const int len = march_step_length(r, o, d, t0, dt, nsteps, *s, thin_depth);
     const double ta = t0 + *s * dt, tm = 0.5 * (ta + sl_march_step_end(t0, dt, t1, *s + len, nsteps));
@@ -276,7 +278,7 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
   }
   double step_depth[MARCH_BATCH];
   for (int i = 0; i < cnt; ++i) {
-    sl__field_fetch(r, nf, &b->cell[i], b->raw[i]);
+    if (i >= kept) sl__field_fetch(r, nf, &b->cell[i], b->raw[i]);
     double beta = 0.0;
     for (int j = 0; j < nf; ++j) beta += b->raw[i][j];
     const double ta = t0 + b->step[i] * dt;
@@ -311,8 +313,13 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
       depth += step_depth[i];
     }
   }
-  if (i < cnt) *s = b->step[i];
   if (i > 0) b->done_end = b->step[i - 1] + b->len[i - 1];
+  /* The steps left over start the next batch, their fields fetched. */
+  b->pending = cnt - i;
+  for (int k = 0; k < b->pending; ++k) {
+    b->step[k] = b->step[i + k], b->len[k] = b->len[i + k];
+    memcpy(b->raw[k], b->raw[i + k], sizeof b->raw[k]);
+  }
 }
 
 /* The light at each segment's two ends from the light volume (a segment that begins where the one
@@ -443,7 +450,8 @@ static inline __attribute__((always_inline)) void march_ray(const march_frame *f
   b->carried_t = NAN;
   b->done_end = -1;
   int size = MARCH_FIRST_BATCH, ended = 0;
-  for (int s = 0; s < nsteps && !ended;) {
+  b->pending = 0;
+  for (int s = 0; (s < nsteps || b->pending) && !ended;) {
     march_batch_steps(r, nf, o, d, t0, t1, dt, nsteps, sc->march_thin_depth, size, a[nwl], &s, b, samples);
     if (size < MARCH_BATCH) size *= 2;
     if (!b->live) continue;
