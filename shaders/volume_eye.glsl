@@ -1,6 +1,6 @@
 //VTK::System::Dec
 // Stormlight: the eye pass over the light volume (render/volume/light_volume.c's ray march on the
-// GPU): slMarchSamples (2 by default) samples per grid cell along each pixel's ray through the
+// GPU): slMarchSamples (1 by default) samples per grid cell along each pixel's ray through the
 // content box, thick steps in parts fixed in optical depth, the closed-form gather of eq. 26 over
 // each, front-to-back. Writes the accumulator
 // that shaders/volume_resolve.glsl (or the CPU) resolves: radiance per wavelength and the
@@ -107,19 +107,18 @@ void main()
     // the next step's is SL_PART_THIN or more and the transparency is still SL_PART_DEEP or more.
     float beta[SL_MAX_FIELDS], betaNext[SL_MAX_FIELDS];
     float tb = sl_march_step_end(t0, step, t1, 1, nsteps);
-    float bNext = slFieldsTotal(slEye + (t0 + 0.5 * (tb - t0)) * d, betaNext), dtNext = tb - t0;
+    float bNext = slFieldsTotal(slEye + (t0 + 0.5 * (tb - t0)) * d, betaNext);
     for (int s = 0; s < nsteps && T >= slTermination; ++s) {
       float ta = t0 + float(s) * step;
       tb = sl_march_step_end(t0, step, t1, s + 1, nsteps);
       float dt = tb - ta;
       for (int j = 0; j < SL_MAX_FIELDS; ++j) beta[j] = betaNext[j];
-      float b = bNext, depthHere = bNext * dtNext;
+      float b = bNext, depthHere = b * dt;
       float depthNext = 0.0;
       if (s + 1 < nsteps) {
         float tc = sl_march_step_end(t0, step, t1, s + 2, nsteps);
         bNext = slFieldsTotal(slEye + (tb + 0.5 * (tc - tb)) * d, betaNext);
-        dtNext = tc - tb;
-        depthNext = bNext * dtNext;
+        depthNext = bNext * (tc - tb);
       }
       bool thick = T >= SL_PART_DEEP && (depthHere >= SL_PART_THIN || depthNext >= SL_PART_THIN);
       if (!thick) {

@@ -276,12 +276,13 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     const int next = exit >= 0.0 ? (int)ceil((tm + exit - t0) / dt - 0.5) : *s + 1;
     *s = next > *s ? next : *s + 1;
   }
-  double step_depth[MARCH_BATCH];
+  double step_beta[MARCH_BATCH], step_depth[MARCH_BATCH];
   for (int i = 0; i < cnt; ++i) {
     if (i >= kept) sl__field_fetch(r, nf, &b->cell[i], b->raw[i]);
     double beta = 0.0;
     for (int j = 0; j < nf; ++j) beta += b->raw[i][j];
     const double ta = t0 + b->step[i] * dt;
+    step_beta[i] = beta;
     step_depth[i] = beta * (sl_march_step_end(t0, dt, t1, b->step[i] + b->len[i], nsteps) - ta);
   }
   /* Past this optical depth from the batch's start the ray's transparency is below SL_PART_DEEP. */
@@ -307,9 +308,7 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     }
     if (thick) depth += march_thick_step(r, nf, o, d, ta, te, b);
     else if (step_depth[i] > 0.0) {
-      double beta = 0.0;
-      for (int j = 0; j < nf; ++j) beta += b->raw[i][j];
-      march_batch_add(nf, b, ta, te, b->raw[i], beta);
+      march_batch_add(nf, b, ta, te, b->raw[i], step_beta[i]);
       depth += step_depth[i];
     }
   }
