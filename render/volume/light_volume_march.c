@@ -206,8 +206,9 @@ static inline __attribute__((always_inline)) void march_batch_add(const int nf, 
  * (sl_segment_parts), on a profile of its total extinction, each part at its profile's mean
  * extinction in the mix of fields where its optical depth's middle lies; returns the step's
  * optical depth. The surface of a cloud inside the step is then where its extinction puts it,
- * not at the step's sample: two samples per cell fell on each side of it by where each ray's
- * lattice began, and drew streaks across the rays where a box face is seen obliquely. */
+ * not at the step's sample: a step taken whole at its middle puts the surface on the ray's own
+ * step lattice, which starts where the ray enters the box, and so draws streaks across the rays
+ * where a box face is seen obliquely. */
 static inline __attribute__((always_inline)) double march_thick_step(const sl_renderer *r, const int nf,
                                                                      const double o[3], const double d[3],
                                                                      double ta, double te, march_batch *b)
@@ -419,9 +420,9 @@ static inline __attribute__((always_inline)) int march_batch_composite(const int
 
 /* One pixel's ray d over [t0, t1] into its accumulator a: its scattering angle's table row (fixed
  * along the ray under a collimated sun), steps of at most 1/march_samples of a grid cell along
- * every axis (by default two: the light volume holds the light at the grid's resolution, and a
- * finer march keeps optically thick surfaces from speckling), or two or four of them as one through
- * thin bricks (march_step_length), gathered a batch at a time; a ray's first batch is small, since a
+ * every axis (by default one: the light volume holds the light at the grid's resolution, and a
+ * thick step is taken in parts, march_thick_step), or two or four of them as one through thin
+ * bricks (march_step_length), gathered a batch at a time; a ray's first batch is small, since a
  * ray into a thick cloud ends after a few steps. */
 static inline __attribute__((always_inline)) void march_ray(const march_frame *f, const int nf, const int nwl,
                                                             const sl__sun_lane *sun_lane, const double d[3],
