@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cf_internal.h"
+#include "sl_large_alloc.h"
 #include "sl_geo.h"
 
 /* The level reader for CF and CM1: 1-D heights, density from the thermodynamic variables. */
@@ -114,7 +115,7 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
 {
   cf_levels *c = ctx;
   const size_t n = (size_t)c->s->nz * c->n2;
-  float *qv = calloc(n, sizeof(float)), *a = malloc(n * sizeof(float)), *temp = malloc(n * sizeof(float));
+  float *qv = calloc(n, sizeof(float)), *a = sl__huge_alloc(n * sizeof(float)), *temp = sl__huge_alloc(n * sizeof(float));
   int rc = qv && a && temp ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
   if (!rc && c->have_qv) rc = cf_block(c, &c->qv, qv, err);
   /* Temperature where the file has it (or potential temperature and pressure); without any, no

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sl_large_alloc.h"
 #include "storm_internal.h"
 
 /* WRF's constants (share/module_model_constants.F): R_d = 287, c_p = 7 R_d / 2, R_v = 461.6,
@@ -216,11 +217,11 @@ static int wrf_slab(wrf_levels *w, const sl_nc_var *v, int k, double *out, sl_er
   return rc;
 }
 
-/* Two float work arrays of n floats, freed by the caller. */
+/* Two float work arrays of n floats, each read whole (on huge pages: remap.c), freed by the caller. */
 static int two_buffers(const char *path, size_t n, float **a, float **b, sl_error *err)
 {
-  *a = malloc(n * sizeof(float));
-  *b = malloc(n * sizeof(float));
+  *a = sl__huge_alloc(n * sizeof(float));
+  *b = sl__huge_alloc(n * sizeof(float));
   return *a && *b ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", path);
 }
 

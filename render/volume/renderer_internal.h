@@ -10,12 +10,11 @@
 #include "ground_shadow.h"
 #include "lighting.h"
 #include "sky_light.h"
+#include "sl_large_alloc.h"
 #include "sl_renderer.h"
 #include "sl_vec3.h"
 #include "sun_table.h"
 
-/* Memory for a large grid, on huge pages where the system offers them (large_alloc.c); free(). */
-void *sl__huge_alloc(size_t bytes);
 
 /* The slicer's light-buffer texels' rays (parallel, along the sunlight) through the content box
  * and the stretch of each that crosses occupied bricks, kept from the last frame: they depend on
