@@ -27,6 +27,17 @@ static void advise_huge(void *p, size_t bytes)
 
 void sl__advise_huge_reads(const void *p, size_t bytes) { advise_huge((void *)p, bytes); }
 
+void sl__advise_reads_done(const void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_NOHUGEPAGE)
+  const uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
+  const uintptr_t hi = ((uintptr_t)p + bytes) / HUGE_PAGE * HUGE_PAGE;
+  if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_NOHUGEPAGE);
+#else
+  (void)p, (void)bytes;
+#endif
+}
+
 /* An oblique slice through a 256^3 grid of four fields (268 MB) touches every z-layer, 1 MB apart:
  * with 4 KiB pages nearly every trilinear corner row misses the TLB. Aligned to 2 MiB and marked
  * for transparent huge pages, the same grid needs 128 page entries instead of 65536. */

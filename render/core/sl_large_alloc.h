@@ -19,4 +19,9 @@ void *sl__huge_calloc(size_t bytes);
  * 1000 x 1000 x 160 x 4 fields). Pages written already stay as they are; memory is unchanged. */
 void sl__advise_huge_reads(const void *p, size_t bytes);
 
+/* sl__advise_huge_reads taken back once the read is done: the kernel's khugepaged would otherwise
+ * gather, over the minutes of a long session, every partly written 2 MiB of a loaded storm into a
+ * whole huge page (the loader writes only where there is cloud), and its memory would grow. */
+void sl__advise_reads_done(const void *p, size_t bytes);
+
 #endif

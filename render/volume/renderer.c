@@ -145,6 +145,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     if (total > beta_max) beta_max = total;
     any |= total > 0.0;
   }
+  for (int j = 0; j < nf; ++j) sl__advise_reads_done(scene->volume->eta[r->model.slot[j]], count * sizeof(float));
   if (bad < count) {
     sl_fail(err, SL_ERR_DATA, "%s concentration is negative or not finite at sample %zu",
             sl_particle_name(r->model.field[bad_field]), bad);
