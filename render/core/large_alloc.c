@@ -13,30 +13,21 @@
 #define HUGE_PAGE ((size_t)2 << 20)
 
 /* Transparent huge pages for the whole 2 MiB pages inside [p, p + bytes) (where the kernel offers
- * them only on request); advice only: without it the pages are small. */
-static void advise_huge(void *p, size_t bytes)
+ * them only on request), or not (huge 0); advice only: without it the pages are small. */
+static void advise_huge(const void *p, size_t bytes, int huge)
 {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
   const uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
   const uintptr_t hi = ((uintptr_t)p + bytes) / HUGE_PAGE * HUGE_PAGE;
-  if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+  if (hi > lo) (void)madvise((void *)lo, hi - lo, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
 #else
-  (void)p, (void)bytes;
+  (void)p, (void)bytes, (void)huge;
 #endif
 }
 
-void sl__advise_huge_reads(const void *p, size_t bytes) { advise_huge((void *)p, bytes); }
+void sl__advise_huge_reads(const void *p, size_t bytes) { advise_huge(p, bytes, 1); }
 
-void sl__advise_reads_done(const void *p, size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_NOHUGEPAGE)
-  const uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
-  const uintptr_t hi = ((uintptr_t)p + bytes) / HUGE_PAGE * HUGE_PAGE;
-  if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_NOHUGEPAGE);
-#else
-  (void)p, (void)bytes;
-#endif
-}
+void sl__advise_reads_done(const void *p, size_t bytes) { advise_huge(p, bytes, 0); }
 
 /* An oblique slice through a 256^3 grid of four fields (268 MB) touches every z-layer, 1 MB apart:
  * with 4 KiB pages nearly every trilinear corner row misses the TLB. Aligned to 2 MiB and marked
@@ -47,7 +38,7 @@ void *sl__huge_alloc(size_t bytes)
   if (bytes < HUGE_PAGE) return malloc(bytes);
   const size_t rounded = (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
   if (posix_memalign(&p, HUGE_PAGE, rounded)) return NULL;
-  advise_huge(p, rounded);
+  advise_huge(p, rounded, 1);
   return p;
 }
 
@@ -59,6 +50,6 @@ void *sl__huge_alloc(size_t bytes)
 void *sl__huge_calloc(size_t bytes)
 {
   void *p = calloc(1, bytes ? bytes : 1);
-  if (p && bytes >= 2 * HUGE_PAGE) advise_huge(p, bytes);
+  if (p && bytes >= 2 * HUGE_PAGE) advise_huge(p, bytes, 1);
   return p;
 }
