@@ -5,8 +5,8 @@
  * size, which writing every sample (zeros included) would add whole. The bound leaves room for
  * the huge pages the cloud's levels take (2 MiB per level of the interleaved grid) and for the
  * reads of the loaded fields' clear air (the kernel's zero page, not resident). Linux only (the
- * resident set from /proc/self/statm); under AddressSanitizer, whose shadow of each allocation is
- * written, the bound is not checked. */
+ * resident set from /proc/self/statm); under AddressSanitizer, whose own allocator and shadow
+ * memory stand between calloc and the pages, the bound is not checked. */
 #include <stdio.h>
 #include <unistd.h>
 
