@@ -1,4 +1,6 @@
-/* Memory for the grids that the passes sample at random-ish places on every slice. */
+/* Memory for large grids (sl_large_alloc.h): on huge pages where the passes sample them at
+ * random-ish places on every slice or the loader writes them whole, zero until written where most
+ * of a storm is clear air. */
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE /* madvise */
 #endif
