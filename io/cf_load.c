@@ -62,18 +62,18 @@ static int cf_var(cf_levels *c, const char *name, cf_quantity q, sl_nc_var *v, s
   return rc ? rc : cf_apply_units(c->f, v, q, err);
 }
 
-/* The subset's levels of a 3-D variable, each axis whose coordinate decreases reversed so that
- * x, y and z increase with the index as the remap expects (a reversed z reads the file's levels
- * that the subset's levels, counted from the bottom, are). */
-static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
+/* Levels k_block .. k_block + nk - 1 of the subset of a 3-D variable, each axis whose coordinate
+ * decreases reversed so that x, y and z increase with the index as the remap expects (a reversed z
+ * reads the file's levels that the subset's levels, counted from the bottom, are). */
+static int cf_block(cf_levels *c, const sl_nc_var *v, int k_block, int nk, float *out, sl_error *err)
 {
   const sl_subset *s = c->s;
   const int *flip = c->L->flip;
-  const int k0 = flip[1] ? (int)c->L->len[1] - s->k0 - s->nz : s->k0;
-  const int rc = c->raw || c->kb ? sl_nc_read_block_raw(c->f, v, c->t, k0, s->nz, s, out, err)
-                                  : sl_nc_read_block(c->f, v, c->t, k0, s->nz, s, out, err);
+  const int k0 = flip[1] ? (int)c->L->len[1] - s->k0 - k_block - nk : s->k0 + k_block;
+  const int rc = c->raw || c->kb ? sl_nc_read_block_raw(c->f, v, c->t, k0, nk, s, out, err)
+                                  : sl_nc_read_block(c->f, v, c->t, k0, nk, s, out, err);
   if (rc) return rc;
-  const size_t nx = (size_t)s->nx, ny = (size_t)s->ny, nz = (size_t)s->nz, plane = nx * ny;
+  const size_t nx = (size_t)s->nx, ny = (size_t)s->ny, nz = (size_t)nk, plane = nx * ny;
   float t;
   for (size_t k = 0; flip[3] && k < nz; ++k)
     for (size_t j = 0; j < ny; ++j) {
@@ -94,7 +94,7 @@ static int cf_block(cf_levels *c, const sl_nc_var *v, float *out, sl_error *err)
   for (size_t k = 0; c->kb && k < nz; ++k)
     for (size_t i = 0; i < plane; ++i)
       if (!isfinite(out[k * plane + i])) {
-        if (s->k0 + (int)k >= c->kb[i]) return sl_nc_fail_missing(c->f, v->name, c->t, err);
+        if (s->k0 + k_block + (int)k >= c->kb[i]) return sl_nc_fail_missing(c->f, v->name, c->t, err);
         out[k * plane + i] = 0.0f;
       }
   return SL_OK;
@@ -111,21 +111,24 @@ static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
   return SL_OK;
 }
 
-static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
+static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moist, unsigned char *frozen,
+                  sl_error *err)
 {
   cf_levels *c = ctx;
-  const size_t n = (size_t)c->s->nz * c->n2;
+  const size_t n = (size_t)nk * c->n2;
   float *qv = calloc(n, sizeof(float)), *a = sl__huge_alloc(n * sizeof(float)), *temp = sl__huge_alloc(n * sizeof(float));
   int rc = qv && a && temp ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
-  if (!rc && c->have_qv) rc = cf_block(c, &c->qv, qv, err);
+  if (!rc && c->have_qv) rc = cf_block(c, &c->qv, k_block, nk, qv, err);
   /* Temperature where the file has it (or potential temperature and pressure); without any, no
    * cell is below freezing (only split species need it, and those are refused without one). */
-  if (!rc && (c->have_temp || c->have_theta)) rc = cf_block(c, c->have_temp ? &c->temp : &c->theta, temp, err);
-  if (!rc && !c->have_rho && !c->p_level) rc = cf_block(c, &c->p, a, err);
-  for (size_t i = 0; !rc && !c->have_rho && c->p_level && i < n; ++i) a[i] = (float)c->p_level[i / c->n2];
-  if (!rc && c->have_rho) rc = cf_block(c, &c->rho, a, err);
+  if (!rc && (c->have_temp || c->have_theta))
+    rc = cf_block(c, c->have_temp ? &c->temp : &c->theta, k_block, nk, temp, err);
+  if (!rc && !c->have_rho && !c->p_level) rc = cf_block(c, &c->p, k_block, nk, a, err);
+  for (size_t i = 0; !rc && !c->have_rho && c->p_level && i < n; ++i)
+    a[i] = (float)c->p_level[(size_t)k_block + i / c->n2];
+  if (!rc && c->have_rho) rc = cf_block(c, &c->rho, k_block, nk, a, err);
   for (size_t i = 0; !rc && i < n; ++i) {
-    if (c->kb && c->s->k0 + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
+    if (c->kb && c->s->k0 + k_block + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
       rho_dry[i] = 0.0f, frozen[i] = 0;
       if (rho_moist) rho_moist[i] = 0.0f;
       continue;
@@ -166,7 +169,7 @@ static int cf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *fr
   return rc;
 }
 
-static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
+static int cf_field(void *ctx, const char *name, int k_block, int nk, float *out, sl_error *err)
 {
   cf_levels *c = ctx;
   const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
@@ -178,7 +181,34 @@ static int cf_field(void *ctx, const char *name, float *out, sl_error *err)
   cf_quantity q = CF_MASS_FRACTION;
   for (int i = 0; i < c->nspecies; ++i)
     if (strcmp(c->species[i].number_variable, name) == 0) q = CF_NUMBER_PER_MASS;
-  return (rc = cf_apply_units(c->f, &v, q, err)) ? rc : cf_block(c, &v, out, err);
+  return (rc = cf_apply_units(c->f, &v, q, err)) ? rc : cf_block(c, &v, k_block, nk, out, err);
+}
+
+/* The remap's blocks follow the largest chunk layer of the variables it reads; with the levels
+ * reversed, a layer of the file's chunks ends where the subset's block starts. */
+static int cf_chunk_levels(cf_levels *c, int *levels, int *phase, sl_error *err)
+{
+  const char *const dims[3] = {c->L->dim[1], c->L->dim[2], c->L->dim[3]};
+  const size_t lens[3] = {c->L->len[1], c->L->len[2], c->L->len[3]};
+  const sl_nc_var *const air[] = {c->have_rho ? &c->rho : NULL, !c->have_rho && !c->p_level ? &c->p : NULL,
+                                  c->have_temp ? &c->temp : NULL, c->have_theta ? &c->theta : NULL,
+                                  c->have_qv ? &c->qv : NULL};
+  *levels = 1;
+  for (size_t i = 0; i < sizeof air / sizeof air[0]; ++i) {
+    const int e = air[i] ? sl_nc_chunk_levels(c->f, air[i]) : 1;
+    if (e > *levels) *levels = e;
+  }
+  for (int i = 0; i < 2 * c->nspecies; ++i) {
+    const char *name = i % 2 ? c->species[i / 2].number_variable : c->species[i / 2].variable;
+    const sl_nc_var *v;
+    int rc;
+    if (!name[0]) continue;
+    if ((rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &v, err))) return rc;
+    const int e = sl_nc_chunk_levels(c->f, v);
+    if (e > *levels) *levels = e;
+  }
+  *phase = c->L->flip[1] ? c->s->k0 - (int)c->L->len[1] : c->s->k0;
+  return SL_OK;
 }
 
 
@@ -331,7 +361,7 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
     sl_nc_attr_text(f, geo.varid, "units", units, sizeof units);
     cf_units_squeezed(units, squeezed, sizeof squeezed);
     if (!height && !squeezed[0]) geo.scale /= 9.80665, geo.offset /= 9.80665; /* no units: SI, m2 s-2 */
-    if ((rc = cf_block(&whole, &geo, z, err))) goto done;
+    if ((rc = cf_block(&whole, &geo, 0, (int)n, z, err))) goto done;
   }
   if (pressure) {
     if (!cf_levels_1d(f, L, L->coord[1], n, p)) {
@@ -503,7 +533,14 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
       goto done;
     }
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
-  sl_level_reader r = {&c, cf_interfaces, cf_air, cf_field};
+  sl_level_reader r = {&c, cf_interfaces, cf_air, cf_field, 1, 0, opt ? opt->block_levels : 0};
+  if ((rc = cf_chunk_levels(&c, &r.chunk_levels, &r.chunk_phase, err))) goto done;
+  /* Now that the blocks are known: the output at this dz, a block's work arrays, heights by column. */
+  const double nzo = ceil((top - ground) / dz), n2 = (double)c.n2;
+  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)sl_remap_block_levels(&r, s.nz, c.n2),
+                                         nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1, sl_species_type_count(species, nspecies)) +
+                           (c.z_cols ? n2 * (s.nz + 1) * sizeof(double) : 0.0);
+  if (nzo <= 4096 && (rc = sl_check_memory(f->path, frame->memory_estimate, opt, err))) goto done;
   if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz,
                             (const double[2]){info->dx * s.stride, info->dy * s.stride}, NULL, NULL,
                             opt ? opt->max_fields : 0, frame, err)))

@@ -237,6 +237,17 @@ int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int 
   return read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
 }
 
+int sl_nc_chunk_levels(const sl_nc *f, const sl_nc_var *v)
+{
+  int storage = NC_CONTIGUOUS;
+  size_t chunks[NC_MAX_VAR_DIMS] = {0};
+  if (v->ndims - v->has_time != 3 || nc_inq_var_chunking(f->id, v->varid, &storage, chunks) != NC_NOERR ||
+      storage != NC_CHUNKED)
+    return 1;
+  const size_t levels = chunks[v->has_time]; /* the dimension after time: the levels */
+  return levels > 1 && levels < 100000 ? (int)levels : 1;
+}
+
 int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err)
 {
   return sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path, name, t);

@@ -1,8 +1,8 @@
-/* The load shared by every format: one variable at a time (each read once, so compressed chunks
- * are inflated once), each hydrometeor becomes an extinction-equivalent number concentration and
- * is deposited straight into the uniform output grid by the conservative vertical remap. Held
- * beside the output: interface heights, dry density and a freezing flag, and one hydrometeor
- * variable (with its number concentration) at a time. */
+/* The load shared by every format: a block of model levels at a time (blocks that follow the
+ * files' compressed chunks, so each chunk is inflated once), each hydrometeor becomes an
+ * extinction-equivalent number concentration and is deposited straight into the uniform output
+ * grid by the conservative vertical remap. Held beside the output, for one block: interface
+ * heights, densities and a freezing flag, and one hydrometeor variable (with its number). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,13 +29,14 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
   }
 }
 
-/* The buffers and facts one species' deposit reads: the column interfaces (z, n2 apart per level),
- * the air's densities and freezing flags per cell, the columns' sinking (drop, or NULL), the
- * output lattice (nzo levels of dz from ground) and the species' effective-radius sums. */
-typedef struct remap_context {
+/* One block of levels as the deposit reads it: the block's interfaces (z, n2 apart per level, nk + 1
+ * levels), the air's densities and freezing flags per cell, the columns' sinking (drop, or NULL),
+ * the output lattice (nzo levels of dz from ground) and the species' effective-radius sums. */
+typedef struct remap_block {
   const char *path;
-  const sl_subset *s;
-  size_t n2, n3;
+  int level;    /* the file's model level of the block's first (for messages) */
+  int k0, nk;   /* the block: levels k0 .. k0 + nk - 1 of the subset */
+  size_t n2;
   const double *z, *drop;
   const float *rho_dry, *rho_moist;
   const unsigned char *frozen;
@@ -43,17 +44,24 @@ typedef struct remap_context {
   double ground, dz;
   float **lnr_eta;
   float *q, *qn; /* scratch: the species' variable and its number */
-} remap_context;
+} remap_block;
 
-/* Species sp (index i) read, checked and deposited into the frame's fields: mixing ratios below
- * zero clamped and counted, non-finite or unphysical values refused naming the level; its stats
- * into frame->species_stats[i]. */
-static int remap_species(const remap_context *x, const sl_level_reader *r, const sl_species *sp, int i,
-                         sl_storm_frame *frame, double *sum, sl_error *err)
+/* Starts species i's stats (frame->species_stats[i]) before its first block. */
+static void species_stats_start(sl_field_stats *st)
+{
+  memset(st, 0, sizeof *st);
+  st->present = 1, st->q_min = INFINITY, st->q_max = -INFINITY;
+  st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
+}
+
+/* One block of species sp (index i) read, checked and deposited into the frame's fields: mixing
+ * ratios below zero clamped and counted, non-finite or unphysical values refused naming the level;
+ * its stats accumulated into frame->species_stats[i], its sum of mixing ratios into *sum. */
+static int remap_species_block(const remap_block *x, const sl_level_reader *r, const sl_species *sp, int i,
+                               sl_storm_frame *frame, double *sum, sl_error *err)
 {
   const char *path = x->path;
-  const sl_subset *s = x->s;
-  const size_t n2 = x->n2, n3 = x->n3;
+  const size_t n2 = x->n2, n3 = n2 * (size_t)x->nk;
   const double *z = x->z, *drop = x->drop;
   const int nzo = x->nzo;
   const double ground = x->ground, dz = x->dz;
@@ -61,36 +69,35 @@ static int remap_species(const remap_context *x, const sl_level_reader *r, const
   float **lnr_eta = x->lnr_eta;
   int rc;
   sl_field_stats *st = &frame->species_stats[i];
-  st->present = 1, st->q_min = INFINITY, st->q_max = -INFINITY;
-  if ((rc = r->field(r->ctx, sp->variable, q, err))) return rc;
-  if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, qn, err))) return rc;
+  if ((rc = r->field(r->ctx, sp->variable, x->k0, x->nk, q, err))) return rc;
+  if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, x->k0, x->nk, qn, err))) return rc;
   const float *rho_air = sp->per_moist_air ? x->rho_moist : x->rho_dry;
-  st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
   for (size_t i3 = 0; i3 < n3; ++i3) {
     double v = q[i3];
     if (v < st->q_min) st->q_min = v;
     if (v > st->q_max) st->q_max = v;
     if (!isfinite(v))
       return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
-                     "declare as _FillValue or missing_value)", path, sp->variable, s->k0 + (int)(i3 / n2));
+                     "declare as _FillValue or missing_value)", path, sp->variable, x->level + (int)(i3 / n2));
     /* Advection leaves small negatives (WRF's are ~1e-6 kg/kg): clamped and counted. Below
      * -0.01 kg/kg, the bound the CF vapour has, it is not noise but a wrong field or wrong units. */
     if (v < -0.01)
       return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio "
-                     "(beyond the clamping of advection noise, -0.01)", path, sp->variable, v, s->k0 + (int)(i3 / n2));
+                     "(beyond the clamping of advection noise, -0.01)", path, sp->variable, v,
+                     x->level + (int)(i3 / n2));
     if (v < 0.0) {
       st->negative_count++;
       v = 0.0;
     }
     if (v > 0.1)
       return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
-                     sp->variable, v, s->k0 + (int)(i3 / n2));
+                     sp->variable, v, x->level + (int)(i3 / n2));
     double number = -1.0; /* none */
     if (sp->number_variable[0]) {
       number = qn[i3];
       if (!isfinite(number))
         return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable,
-                       s->k0 + (int)(i3 / n2));
+                       x->level + (int)(i3 / n2));
       if (number < 0.0) st->number_negative++, number = 0.0;
       if (number == 0.0 && v > 0.0) st->number_missing++;
     }
@@ -111,11 +118,51 @@ static int remap_species(const remap_context *x, const sl_level_reader *r, const
       deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
                     eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m));
   }
+  return SL_OK;
+}
+
+/* Ends species sp's stats (index i) after its last block, over the subset's n3 cells. */
+static void species_stats_finish(const sl_species *sp, int i, size_t n3, double sum, sl_storm_frame *frame)
+{
+  sl_field_stats *st = &frame->species_stats[i];
   if (!(st->r_eff_max > 0.0)) st->r_eff_min = st->r_eff_max = 0.0;
-  st->q_mean = *sum / (double)n3;
+  st->q_mean = sum / (double)n3;
   frame->species[i] = *sp;
   if (!frame->stats[sp->warm].present) frame->stats[sp->warm] = *st;
-  return SL_OK;
+}
+
+/* Work arrays per block: at 1000 x 1000 columns a level of them is some 40 MB. */
+#define REMAP_BLOCK_BYTES ((size_t)64 << 20)
+
+/* The end of the block of levels that starts at k (of nz): as many levels as REMAP_BLOCK_BYTES
+ * holds, rounded to whole layers of the files' chunks (down, but at least to the first layer's
+ * end) so that no chunk is inflated twice. */
+static int block_end(const sl_level_reader *r, int k, int nz, size_t n2)
+{
+  int end;
+  if (r && r->block_levels > 0) {
+    end = k + r->block_levels;
+  } else {
+    const size_t fit = REMAP_BLOCK_BYTES / ((n2 > 0 ? n2 : 1) * SL_REMAP_BYTES_PER_CELL);
+    end = k + (fit < 1 ? 1 : fit > (size_t)nz ? nz : (int)fit);
+    const int e = r ? r->chunk_levels : 1;
+    if (e > 1) {
+      const int below = end - (((end + r->chunk_phase) % e) + e) % e; /* the last layer start <= end */
+      end = below > k ? below : below + e;
+    }
+  }
+  return end < nz ? end : nz;
+}
+
+int sl_remap_block_levels(const sl_level_reader *r, int nz, size_t n2)
+{
+  int most = 0;
+  for (int k = 0; k < nz;) {
+    const int e = block_end(r, k, nz, n2);
+    if (e - k > most) most = e - k;
+    k = e;
+  }
+  return most;
 }
 
 /* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
@@ -157,29 +204,22 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
   const int nzo = levels < 1.0 ? 1 : (int)levels;
   int moist = 0, number = 0;
   for (int i = 0; i < nspecies; ++i) moist |= species[i].per_moist_air, number |= species[i].number_variable[0] != 0;
-  /* Held for the whole load: interface heights (double: the remap's conservation rests on them),
-   * density and the freezing flag; one hydrometeor variable (and its number) at a time. */
-  /* Each written whole, on huge pages: at 1000 x 1000 x 80 they are 1.3 GB, and a first write per
-   * 4 KiB page cost this VM a fault each (a fifth of the load's time in the kernel). */
-  double *z = sl__huge_alloc((n3 + n2) * sizeof(double));
-  float *rho_dry = sl__huge_alloc(n3 * sizeof(float)), *rho_moist = moist ? sl__huge_alloc(n3 * sizeof(float)) : NULL;
-  float *q = sl__huge_alloc(n3 * sizeof(float)), *qn = number ? sl__huge_alloc(n3 * sizeof(float)) : NULL;
-  unsigned char *frozen = sl__huge_alloc(n3);
+  const int nb = sl_remap_block_levels(r, nz, n2);
+  const size_t nbc = (size_t)nb * n2;
+  /* Per block: interface heights (double: the remap's conservation rests on them), densities and
+   * the freezing flag, one hydrometeor variable (and its number) at a time. Each is written whole
+   * every block, so on huge pages: a first write per 4 KiB page cost this VM a fault each. */
+  double *z = sl__huge_alloc(nbc * sizeof(double) + n2 * sizeof(double));
+  float *rho_dry = sl__huge_alloc(nbc * sizeof(float)), *rho_moist = moist ? sl__huge_alloc(nbc * sizeof(float)) : NULL;
+  float *q = sl__huge_alloc(nbc * sizeof(float)), *qn = number ? sl__huge_alloc(nbc * sizeof(float)) : NULL;
+  unsigned char *frozen = sl__huge_alloc(nbc);
   double *sums = calloc((size_t)nspecies + 1, sizeof(double));
   float *lnr_eta[SL_PARTICLE_COUNT] = {0};
   int rc = SL_OK;
   if (!z || !rho_dry || (moist && !rho_moist) || !q || (number && !qn) || !frozen || !sums) {
-    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %d x %d x %d cells", path, nx, ny, nz);
+    rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %d x %d x %d cells", path, nx, ny, nb);
     goto done;
   }
-  if ((rc = r->interfaces(r->ctx, 0, nz + 1, z, err))) goto done;
-  for (size_t i = 0; i < n3; ++i)
-    if (!(z[i + n2] > z[i])) {
-      rc = sl_fail(err, SL_ERR_DATA, "%s: heights do not increase upward at model level %d", path,
-                   s->k0 + (int)(i / n2));
-      goto done;
-    }
-  if ((rc = r->air(r->ctx, rho_dry, rho_moist, frozen, err))) goto done;
   const double dx = spacing_h[0], dy = spacing_h[1];
   const double origin[3] = {corner ? corner[0] : -0.5 * (nx - 1) * dx, corner ? corner[1] : -0.5 * (ny - 1) * dy,
                             ground + 0.5 * dz};
@@ -200,9 +240,30 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       goto done;
     }
   }
-  const remap_context x = {path, s, n2, n3, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz, lnr_eta, q, qn};
-  for (int i = 0; i < nspecies; ++i)
-    if ((rc = remap_species(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
+  for (int i = 0; i < nspecies; ++i) species_stats_start(&frame->species_stats[i]);
+  /* Each cell's deposit needs only its own level's heights, air and value: blocks of levels are the
+   * outer loop, so the work arrays hold a block, and each variable is read once across them. */
+  for (int k0 = 0, k1, last = 0; k0 < nz; last = k1 - k0, k0 = k1) {
+    k1 = block_end(r, k0, nz, n2);
+    const int nk = k1 - k0;
+    const size_t cells = (size_t)nk * n2;
+    /* The block's bottom interfaces are the last block's top ones. */
+    if (k0 > 0) memmove(z, z + (size_t)last * n2, n2 * sizeof(double));
+    if ((rc = k0 == 0 ? r->interfaces(r->ctx, 0, nk + 1, z, err) : r->interfaces(r->ctx, k0 + 1, nk, z + n2, err)))
+      goto done;
+    for (size_t i = 0; i < cells; ++i)
+      if (!(z[i + n2] > z[i])) {
+        rc = sl_fail(err, SL_ERR_DATA, "%s: heights do not increase upward at model level %d", path,
+                     s->k0 + k0 + (int)(i / n2));
+        goto done;
+      }
+    if ((rc = r->air(r->ctx, k0, nk, rho_dry, rho_moist, frozen, err))) goto done;
+    const remap_block x = {path, s->k0 + k0, k0, nk, n2, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz,
+                           lnr_eta, q, qn};
+    for (int i = 0; i < nspecies; ++i)
+      if ((rc = remap_species_block(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
+  }
+  for (int i = 0; i < nspecies; ++i) species_stats_finish(&species[i], i, n3, sums[i], frame);
   frame->nspecies = nspecies;
   drop_empty_fields(frame, lnr_eta);
   rc = sl_size_bins_split(&frame->volume, lnr_eta, max_fields, &frame->sizes, err);

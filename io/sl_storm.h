@@ -141,6 +141,9 @@ typedef struct sl_load_options {
   int has_origin;
   double origin_lat, origin_lon;
   int earth_curvature;        /* 1: each column sinks by the sphere's depth below the tangent plane */
+  /* > 0: model levels the loader holds at a time; 0: as many as 64 MB of work arrays hold, rounded
+   * to the layers of the file's compressed chunks. The frame is the same to float rounding. */
+  int block_levels;
 } sl_load_options;
 
 /* A 3-D float variable (dimensions z, y, x) of a NetCDF file, read as it stands into *out (malloc;

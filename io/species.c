@@ -340,13 +340,12 @@ double sl_species_eta(const sl_species *sp, int target, double rho_air, double q
   return sl_number_concentration(rho_air, q, sl_particle_mass((sl_particle)target));
 }
 
-double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types)
+double sl_load_bytes(size_t nx, size_t ny, size_t nz_block, size_t nz_out, int types)
 {
-  /* Output fields (float), and beside them for the whole load (remap.c): interface heights
-   * (double), dry density (float), a freezing flag (byte) and one hydrometeor variable (float). */
+  /* Output fields (float), and beside them a block's work arrays and its top interfaces. */
   const double columns = (double)nx * ny;
-  return columns * nz_out * sizeof(float) * types + columns * (nz_model + 1) * sizeof(double) +
-         columns * nz_model * (2 * sizeof(float) + 1);
+  return columns * nz_out * sizeof(float) * types + columns * nz_block * SL_REMAP_BYTES_PER_CELL +
+         columns * sizeof(double);
 }
 
 double sl_machine_memory(void)

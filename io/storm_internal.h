@@ -80,36 +80,45 @@ typedef struct sl_var_cache {
 int sl_var_cache_get(sl_var_cache *cache, const sl_nc *f, const char *name, const char *const dims[3],
                      const size_t lens[3], const sl_nc_var **out, sl_error *err);
 /* Levels k0 .. k0 + nk - 1 of a variable at time t over the subset's columns, as floats
- * ([level][y][x]), unpacked, failing on NaN/Inf/fill naming the variable. One call per variable:
- * compressed chunks are inflated once, whatever their shape. */
+ * ([level][y][x]), unpacked, failing on NaN/Inf/fill naming the variable. A chunk the block
+ * covers only in part is inflated again by the next block that reads it (netCDF's chunk cache
+ * holds a few): sl_nc_chunk_levels says where blocks should end. */
 int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
                      sl_error *err);
 /* The same without the check: missing values read as NaN (pressure levels below the ground). */
 int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
                          sl_error *err);
+/* The levels one compressed chunk of 3-D variable v spans (1 when v is contiguous or 2-D). */
+int sl_nc_chunk_levels(const sl_nc *f, const sl_nc_var *v);
 /* The error for a NaN, infinite or missing value in variable `name`. */
 int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err);
 /* Fails on NaN/Inf naming the variable. */
 int sl_all_finite(const sl_nc *f, const char *name, int t, const double *v, size_t n, sl_error *err);
 
-/* What a format reader supplies to the remap, one whole variable (the subset's levels and
- * columns) per call. Levels are counted from the subset's first. */
+/* What a format reader supplies to the remap, a block of levels per call: levels are counted from
+ * the subset's first, arrays are [k][y][x] over the subset's columns. */
 typedef struct sl_level_reader {
   void *ctx;
-  /* Heights (m above sea level) of interfaces k0 .. k0 + nk - 1 ([k][y][x], 0 .. nz of the subset). */
+  /* Heights (m above sea level) of interfaces k0 .. k0 + nk - 1 (0 .. nz of the subset). */
   int (*interfaces)(void *ctx, int k0, int nk, double *z, sl_error *err);
   /* Dry-air density (kg/m3), moist-air density (NULL when not wanted) and whether each cell is
-   * below 0 C, for the subset's levels. */
-  int (*air)(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err);
-  /* Values of a hydrometeor variable over the subset's levels (unpacked, checked finite). */
-  int (*field)(void *ctx, const char *name, float *out, sl_error *err);
+   * below 0 C, for levels k0 .. k0 + nk - 1. */
+  int (*air)(void *ctx, int k0, int nk, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err);
+  /* Values of a hydrometeor variable on levels k0 .. k0 + nk - 1 (unpacked, checked finite). */
+  int (*field)(void *ctx, const char *name, int k0, int nk, float *out, sl_error *err);
+  /* The files' compressed chunks along the levels: level k starts a layer of chunks where
+   * (k + chunk_phase) is a multiple of chunk_levels (1: any level does; a contiguous variable). */
+  int chunk_levels, chunk_phase;
+  /* > 0: levels read per block whatever the memory and the chunks (sl_load_options.block_levels). */
+  int block_levels;
 } sl_level_reader;
 
-/* Fills frame->volume from the mapped species, one variable at a time, with the conservative
- * vertical remap; ground/top are the output grid's bottom and top (m); spacing_h the output's
- * horizontal spacing; corner the first column's x, y (NULL: the grid centred on 0, 0); drop, per
- * output column, how far the column sinks for the earth's curvature (NULL: none); max_fields the
- * fields the renderer will carry (0: SL_VOLUME_MAX_FIELDS), which the size tables share. */
+/* Fills frame->volume from the mapped species with the conservative vertical remap, a block of
+ * levels at a time (each variable's chunks inflated once where the blocks follow them); ground and
+ * top are the output grid's bottom and top (m); spacing_h the output's horizontal spacing; corner
+ * the first column's x, y (NULL: the grid centred on 0, 0); drop, per output column, how far the
+ * column sinks for the earth's curvature (NULL: none); max_fields the fields the renderer will
+ * carry (0: SL_VOLUME_MAX_FIELDS), which the size tables share. */
 int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset *s, const sl_species *species,
                     int nspecies, double ground, double top, double dz, const double spacing_h[2],
                     const double corner[2], const double *drop, int max_fields, sl_storm_frame *frame,
@@ -134,13 +143,21 @@ void sl_species_set_number(sl_species *sp, const char *number_variable);
  * concentration rho_dry * qn (qn < 0: none). */
 double sl_species_eta(const sl_species *sp, int target, double rho_air, double q, double rho_dry, double qn,
                       double *r_eff);
-/* Estimated bytes of a load of nx x ny columns and nz_model levels into `types` fields of nz_out levels. */
 /* Splits each sized type's field (cloud, rain) between tables of effective radii across its range:
  * lnr_eta[t] holds the sum of eta ln(r_eff) per cell beside v->eta[t] (NULL: not sized). */
 int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], int max_fields, sl_size_bins *out,
                        sl_error *err);
 
-double sl_load_bytes(size_t nx, size_t ny, size_t nz_model, size_t nz_out, int types);
+/* Work bytes per cell of a block of levels (remap.c): interface heights (a double), dry and moist
+ * density (floats), the freezing flag, one species and its number (floats), and the reader's
+ * buffers while it derives the air (up to three floats). */
+#define SL_REMAP_BYTES_PER_CELL 40
+/* The most levels one of the remap's blocks holds, for nz levels of n2 columns: as many as 64 MB
+ * of work arrays hold, rounded to the reader's chunk layers (r NULL: before they are known). */
+int sl_remap_block_levels(const sl_level_reader *r, int nz, size_t n2);
+/* Estimated bytes of a load of nx x ny columns, nz_block levels at a time, into `types` fields of
+ * nz_out levels. */
+double sl_load_bytes(size_t nx, size_t ny, size_t nz_block, size_t nz_out, int types);
 
 int sl_cf_read_info(const sl_nc *f, sl_storm_info *info, sl_error *err);
 int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options *opt, const sl_species *species,

@@ -240,10 +240,11 @@ static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
   return rc;
 }
 
-static int wrf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *frozen, sl_error *err)
+static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moist, unsigned char *frozen,
+                   sl_error *err)
 {
   wrf_levels *w = ctx;
-  const int k0 = w->s->k0, nk = w->s->nz;
+  const int k0 = w->s->k0 + k_block;
   const size_t n = (size_t)nk * w->n2;
   float *pb, *theta, *qv = rho_dry; /* rho_dry holds P + PB first */
   float *p = rho_dry;
@@ -269,14 +270,37 @@ static int wrf_air(void *ctx, float *rho_dry, float *rho_moist, unsigned char *f
   return rc;
 }
 
-static int wrf_field(void *ctx, const char *name, float *out, sl_error *err)
+static int wrf_field(void *ctx, const char *name, int k0, int nk, float *out, sl_error *err)
 {
   wrf_levels *w = ctx;
   const char *const d3[] = {"bottom_top", "south_north", "west_east"};
   const size_t l3[] = {w->l3[0], w->l3[1], w->l3[2]};
   const sl_nc_var *v;
   const int rc = sl_var_cache_get(&w->cache, w->f, name, d3, l3, &v, err);
-  return rc ? rc : sl_nc_read_block(w->f, v, w->t, w->s->k0, w->s->nz, w->s, out, err);
+  return rc ? rc : sl_nc_read_block(w->f, v, w->t, w->s->k0 + k0, nk, w->s, out, err);
+}
+
+/* The remap's blocks follow the largest chunk layer of the variables it reads (WRF writes one
+ * chunking for all where it compresses). */
+static int wrf_chunk_levels(wrf_levels *w, const sl_species *species, int nspecies, int *levels, sl_error *err)
+{
+  const char *const d3[] = {"bottom_top", "south_north", "west_east"};
+  const sl_nc_var *const air[] = {&w->p, &w->pb, &w->theta, &w->qv, &w->ph, &w->phb};
+  *levels = 1;
+  for (size_t i = 0; i < sizeof air / sizeof air[0]; ++i) {
+    const int e = sl_nc_chunk_levels(w->f, air[i]);
+    if (e > *levels) *levels = e;
+  }
+  for (int i = 0; i < 2 * nspecies; ++i) {
+    const char *name = i % 2 ? species[i / 2].number_variable : species[i / 2].variable;
+    const sl_nc_var *v;
+    int rc;
+    if (!name[0]) continue;
+    if ((rc = sl_var_cache_get(&w->cache, w->f, name, d3, w->l3, &v, err))) return rc;
+    const int e = sl_nc_chunk_levels(w->f, v);
+    if (e > *levels) *levels = e;
+  }
+  return SL_OK;
 }
 
 /* Columns inside lat0..lat1, lon0..lon1 at time t: their bounding box in grid indices. */
@@ -463,8 +487,10 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
   }
   const double dz = opt && opt->dz > 0.0 ? opt->dz : (top - ground) / (2.0 * s.nz);
   const double nzo = ceil((top - ground) / dz);
-  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)s.nz, nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1,
-                                         sl_species_type_count(species, nspecies));
+  sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field, 1, s.k0, opt ? opt->block_levels : 0};
+  if ((rc = wrf_chunk_levels(&w, species, nspecies, &r.chunk_levels, err))) goto done;
+  frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)sl_remap_block_levels(&r, s.nz, n2),
+                                         nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1, sl_species_type_count(species, nspecies));
   if (nzo <= 4096 && (rc = sl_check_memory(path, frame->memory_estimate, opt, err))) goto done;
   if ((rc = wrf_georeference(f, info, opt, t, flat ? NULL : &xlat, flat ? NULL : &xlong, &frame->georef, err)))
     goto done;
@@ -486,7 +512,6 @@ static int wrf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_opt
         if (d > max_drop) max_drop = d;
       }
   }
-  sl_level_reader r = {&w, wrf_interfaces, wrf_air, wrf_field};
   if ((rc = sl_remap_levels(path, &r, &s, species, nspecies, ground - max_drop, top, dz, spacing_h, corner_xy, drop,
                             opt ? opt->max_fields : 0, frame, err)))
     goto done;
@@ -529,7 +554,9 @@ double sl_storm_memory_estimate(const sl_storm_info *info, const sl_load_options
     if (opt->field_variable[p] && strcmp(opt->field_variable[p], "none") != 0 && n < SL_MAX_SPECIES)
       species[n].warm = species[n].cold = p, ++n;
   /* Default dz: two output levels per model level. */
-  return sl_load_bytes(nx, ny, (size_t)(nz > 0 ? nz : 1), 2 * (size_t)(nz > 0 ? nz : 1), sl_species_type_count(species, n));
+  const int levels = nz > 0 ? nz : 1;
+  return sl_load_bytes(nx, ny, (size_t)sl_remap_block_levels(NULL, levels, nx * ny), 2 * (size_t)levels,
+                       sl_species_type_count(species, n));
 }
 
 static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)

@@ -1,8 +1,9 @@
 /* Load + resample benchmark: a 500 x 500 x 40 WRF-like storm written by `stormlight synth`
  * (sl_synth_write, the same code), loaded onto the uniform grid by sl_storm_load. Prints time
- * and peak memory of the load, against two peers measured in the same run: reading the variables
- * the load needs whole into float arrays (the I/O floor and the memory a read-everything reader
- * holds), and the float size of the fields rendered (the target: peak at most 2x that).
+ * and peak memory of the load, against three peers measured in the same run: reading the
+ * variables the load needs whole into float arrays (the I/O floor and the memory a read-everything
+ * reader holds), the same load with the remap in one block of all levels (the work arrays over the
+ * whole grid), and the float size of the fields rendered (the target: peak at most 2x that).
  * Usage: bench_load [FILE.nc] [NX NY NZ]; without FILE it writes /tmp/sl_bench_load.nc. */
 #include <netcdf.h>
 #include <stdio.h>
@@ -62,9 +63,9 @@ static void read_whole(const char *path, phase_result *r)
   r->field_bytes = 0;
 }
 
-static void load(const char *path, phase_result *r)
+static void load_blocks(const char *path, int block_levels, phase_result *r)
 {
-  sl_load_options o = {0};
+  sl_load_options o = {.block_levels = block_levels};
   sl_storm_frame f;
   sl_error err = {0};
   if (sl_storm_load(path, &o, &f, &err)) {
@@ -79,6 +80,10 @@ static void load(const char *path, phase_result *r)
          f.memory_estimate / 1e6);
   sl_storm_frame_free(&f);
 }
+
+/* The default blocks (64 MB of work arrays, rounded to the file's chunks), and all levels in one. */
+static void load(const char *path, phase_result *r) { load_blocks(path, 0, r); }
+static void load_one_block(const char *path, phase_result *r) { load_blocks(path, 100000, r); }
 
 static phase_result run_phase(const char *path, void (*fn)(const char *, phase_result *))
 {
@@ -124,12 +129,16 @@ int main(int argc, char **argv)
   printf("whole-variable read (peer):\n");
   const phase_result whole = run_phase(path, read_whole);
   printf("  %.3f s, peak +%.0f MB\n", whole.seconds, whole.peak_bytes / 1e6);
-  printf("sl_storm_load (one variable at a time, remapped into the output grid):\n");
+  printf("sl_storm_load, all levels in one block (peer):\n");
+  const phase_result one = run_phase(path, load_one_block);
+  printf("  %.3f s, peak +%.0f MB\n", one.seconds, one.peak_bytes / 1e6);
+  printf("sl_storm_load (blocks of levels, remapped into the output grid):\n");
   const phase_result l = run_phase(path, load);
   printf("  %.3f s, peak +%.0f MB\n", l.seconds, l.peak_bytes / 1e6);
   printf("fields rendered: %.0f MB as float\n", l.field_bytes / 1e6);
-  printf("ratios: load peak / rendered fields %.2f (target <= 2); load time / whole read %.2f; "
-         "whole-read peak / rendered fields %.2f\n",
-         l.peak_bytes / l.field_bytes, l.seconds / whole.seconds, whole.peak_bytes / l.field_bytes);
+  printf("ratios: load peak / rendered fields %.2f (target <= 2; one block %.2f); load time / whole read %.2f "
+         "(one block %.2f); whole-read peak / rendered fields %.2f\n",
+         l.peak_bytes / l.field_bytes, one.peak_bytes / l.field_bytes, l.seconds / whole.seconds,
+         one.seconds / whole.seconds, whole.peak_bytes / l.field_bytes);
   return 0;
 }

@@ -299,6 +299,56 @@ static void test_below_ground(void)
   sl_storm_frame_free(&f);
 }
 
+/* The remap in blocks of levels (io/remap.c) on the layouts that move a block's levels in the
+ * file: levels from the top down (a block of the subset reads the file's levels counted from its
+ * end), a column masked below its ground (per column, which of the block's levels hold air), the
+ * pressure taken from the coordinate, and a --levels subset. One species: each output cell sums
+ * its deposits in the same order whatever the blocks, so the frames agree bit for bit. */
+static void test_blocks(void)
+{
+  const char *path = write_storm("blocks", (layout){.below = 1, .top_down = 1, .hpa = 1, .north_south = 1});
+  const int subsets[2][2] = {{0, 0}, {1, 13}};
+  for (int s = 0; s < 2; ++s) {
+    sl_load_options one = {.level_first = subsets[s][0], .level_count = subsets[s][1], .block_levels = 1000};
+    sl_storm_frame whole;
+    sl_error err = {0};
+    if (!CHECK(load(path, &one, &whole, &err) == SL_OK)) {
+      fprintf(stderr, "%s\n", err.message);
+      continue;
+    }
+    const size_t n = (size_t)whole.volume.nx * whole.volume.ny * whole.volume.nz;
+    for (int b = 1; b <= 4; ++b) {
+      sl_load_options o = one;
+      o.block_levels = b;
+      sl_storm_frame f;
+      if (!CHECK(load(path, &o, &f, &err) == SL_OK)) continue;
+      int same = f.volume.nz == whole.volume.nz && f.terrain_min == whole.terrain_min;
+      for (int p = 0; same && p < SL_VOLUME_SLOTS; ++p)
+        same = !f.volume.eta[p] == !whole.volume.eta[p] &&
+               (!f.volume.eta[p] || memcmp(f.volume.eta[p], whole.volume.eta[p], n * sizeof(float)) == 0);
+      same = same && f.stats[SL_CLOUD].q_mean == whole.stats[SL_CLOUD].q_mean &&
+             f.stats[SL_CLOUD].q_max == whole.stats[SL_CLOUD].q_max;
+      CHECK_MSG(same, subsets[s][1] ? "levels 1:13 in blocks" : "all levels in blocks");
+      sl_storm_frame_free(&f);
+    }
+    if (s == 0)
+      for (int j = 0; j < NY; ++j)
+        for (int i = 0; i < NX; ++i)
+          CHECK_CLOSE(sl_test_column_path(&whole, i, j), hydrostatic_path(i, j, 0, NP), 2e-3, 0.0);
+    sl_storm_frame_free(&whole);
+  }
+  /* A missing value above the ground is found in whichever block holds it. */
+  const char *hole = write_storm("blocks_hole", (layout){.hole = 1, .below = 1, .top_down = 1});
+  for (int b = 1; b <= 3; ++b) {
+    sl_load_options o = {.block_levels = b};
+    sl_storm_frame f;
+    sl_error err = {0};
+    const int rc = load(hole, &o, &f, &err);
+    if (rc == SL_OK) sl_storm_frame_free(&f);
+    CHECK_MSG(rc != SL_OK && strstr(err.message, "'clw' has NaN, Inf or missing values"), "a hole in blocks");
+  }
+}
+
 /* Terrain-following model levels: the Met Office UM's hybrid height (z = a + b orog, CF appendix
  * D, formula_terms) and, the same levels, as model level numbers with a 3-D altitude. Air from
  * pressure and potential temperature on the levels, as the UM writes it. The same oracle: the
@@ -455,6 +505,7 @@ int main(void)
   expect_error("sinking_column_era5", (layout){.bad_column = 1, .top_down = 1, .north_south = 1, .hpa = 1}, "does not rise");
   expect_error("one_level", (layout){.one_level = 1}, "one pressure level");
   test_below_ground();
+  test_blocks();
   test_model_levels();
   /* Missing above the ground is an error naming the variable, as everywhere. */
   expect_error("cloud_hole", (layout){.hole = 1, .below = 1}, "'clw' has NaN, Inf or missing values");

@@ -5,9 +5,11 @@
  * size, which writing every sample (zeros included) would add whole. The bound leaves room for
  * the huge pages the cloud's levels take (2 MiB per level of the interleaved grid) and for the
  * reads of the loaded fields' clear air (the kernel's zero page, not resident). Linux only (the
- * resident set from /proc/self/statm); under AddressSanitizer, whose own allocator and shadow
- * memory stand between calloc and the pages, the bound is not checked. */
+ * resident set from /proc/self/statm). The bound is not checked under AddressSanitizer, whose own
+ * allocator and shadow memory stand between calloc and the pages, nor on a kernel that gives reads
+ * of never-written memory pages of their own (found by a probe, and said). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include "sl_renderer.h"
@@ -24,6 +26,22 @@ static double resident_bytes(void)
   if (fscanf(f, "%ld %ld", &size, &resident) != 2) resident = -1;
   fclose(f);
   return resident < 0 ? -1.0 : (double)resident * (double)sysconf(_SC_PAGESIZE);
+}
+
+/* 1 when reading never-written anonymous memory maps the kernel's shared zero page, as Linux does,
+ * so that it takes no memory; 0 where each read page becomes resident (seen on Linux 6.18 in a
+ * Firecracker VM), where reading a grid's clear air costs its size whatever the renderer does. */
+static int kernel_maps_zero_page(void)
+{
+  const size_t bytes = (size_t)16 << 20;
+  volatile unsigned char *p = calloc(1, bytes);
+  if (!p) return 0;
+  const double before = resident_bytes();
+  unsigned sum = 0;
+  for (size_t i = 0; i < bytes; i += 4096) sum += p[i];
+  const double after = resident_bytes();
+  free((void *)p);
+  return sum == 0 && after - before < 0.25 * (double)bytes;
 }
 
 int main(void)
@@ -44,6 +62,7 @@ int main(void)
   sl_scene sc = {.volume = &v, .slices = 64, .lighting = SL_LIGHTING_LOW_ALBEDO};
   sl_sun_direction(35.0, 240.0, sc.sun_direction);
   for (int c = 0; c < SL_CHANNELS; ++c) sc.sun_irradiance[c] = 1.0;
+  const int zero_page = kernel_maps_zero_page();
   const double before = resident_bytes();
   sl_renderer *r = sl_renderer_create(&sc, &err);
   const double after = resident_bytes();
@@ -53,7 +72,10 @@ int main(void)
 #if defined(__SANITIZE_ADDRESS__)
   printf("AddressSanitizer: the bound is not checked\n");
 #else
-  if (before >= 0.0 && after >= 0.0) CHECK_MSG(after - before < 0.25 * grids, "the renderer's clear air took memory");
+  if (!zero_page)
+    printf("this kernel gives reads of never-written memory pages of their own: the bound is not checked\n");
+  else if (before >= 0.0 && after >= 0.0)
+    CHECK_MSG(after - before < 0.25 * grids, "the renderer's clear air took memory");
 #endif
   /* The grids read as zero in the clear air and hold the cloud where it is: the content box is the
    * cloud's samples and the cell around them that their trilinear footprint reaches. */

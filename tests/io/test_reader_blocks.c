@@ -1,0 +1,117 @@
+/* The loader remaps a block of model levels at a time (io/remap.c), so that a large storm's work
+ * arrays hold a block rather than the whole grid. Each cell's deposit reads only its own level's
+ * heights, air and value, so a load in blocks of 1, 2 or 5 levels must give the frame of the load
+ * in one block: the same fields, stats and size tables, bit for bit. Bit for bit holds because no
+ * two species of these files feed one particle type: each output cell then sums its deposits in
+ * the same order whatever the blocks (two species sharing a type would interleave theirs).
+ * Real files: the WRF Katrina (WSM3, chunks of 14 levels, cloud split into ice) and Tibet
+ * (Thompson with numbers, contiguous) runs, the CM1 supercell (two-moment, numbers per kg) and a
+ * BOMEX LES time (shallow cumulus). Level subsets (--levels) start the blocks off the file's
+ * first level. The CF pressure-level layouts, reversed and masked below the ground, are checked in
+ * test_reader_pressure.c. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sl_storm.h"
+#include "sl_testing.h"
+
+/* Field by field: a struct's padding need not compare. */
+static int same_stats(const sl_field_stats *a, const sl_field_stats *b)
+{
+  return a->present == b->present && a->q_min == b->q_min && a->q_max == b->q_max && a->q_mean == b->q_mean &&
+         a->negative_count == b->negative_count && a->r_eff_min == b->r_eff_min && a->r_eff_max == b->r_eff_max &&
+         a->number_negative == b->number_negative && a->number_missing == b->number_missing;
+}
+
+/* 1 when frames a and b hold the same grid, fields, stats and size tables, bit for bit. */
+static int same_frame(const sl_storm_frame *a, const sl_storm_frame *b, const char *what)
+{
+  int same = a->volume.nx == b->volume.nx && a->volume.ny == b->volume.ny && a->volume.nz == b->volume.nz &&
+             memcmp(a->volume.origin, b->volume.origin, sizeof a->volume.origin) == 0 &&
+             memcmp(a->volume.spacing, b->volume.spacing, sizeof a->volume.spacing) == 0;
+  const size_t n = (size_t)a->volume.nx * a->volume.ny * a->volume.nz;
+  for (int p = 0; same && p < SL_VOLUME_SLOTS; ++p) {
+    if (!a->volume.eta[p] != !b->volume.eta[p]) same = 0;
+    else if (a->volume.eta[p] && memcmp(a->volume.eta[p], b->volume.eta[p], n * sizeof(float)) != 0) same = 0;
+    if (a->volume.effective_radius_m[p] != b->volume.effective_radius_m[p]) same = 0;
+    if (!same) fprintf(stderr, "%s: field in slot %d differs\n", what, p);
+  }
+  for (int p = 0; same && p < SL_PARTICLE_COUNT; ++p)
+    same = same_stats(&a->stats[p], &b->stats[p]);
+  for (int i = 0; same && i < a->nspecies; ++i)
+    same = same_stats(&a->species_stats[i], &b->species_stats[i]);
+  for (int p = 0; same && p < SL_PARTICLE_COUNT; ++p) {
+    same = a->sizes.count[p] == b->sizes.count[p] && a->sizes.range_lo_m[p] == b->sizes.range_lo_m[p] &&
+           a->sizes.range_hi_m[p] == b->sizes.range_hi_m[p] && a->sizes.limited[p] == b->sizes.limited[p];
+    for (int k = 0; same && k < SL_VOLUME_MAX_FIELDS; ++k) same = a->sizes.radius_m[p][k] == b->sizes.radius_m[p][k];
+  }
+  if (same) same = a->nspecies == b->nspecies;
+  return same;
+}
+
+/* Sum of every field: a load that deposited nothing would compare equal to another such. */
+static double total(const sl_storm_frame *f)
+{
+  const size_t n = (size_t)f->volume.nx * f->volume.ny * f->volume.nz;
+  double sum = 0.0;
+  for (int p = 0; p < SL_VOLUME_SLOTS; ++p)
+    for (size_t i = 0; f->volume.eta[p] && i < n; ++i) sum += f->volume.eta[p][i];
+  return sum;
+}
+
+static void check_blocks(const char *path, int time_index, int level_first, int level_count)
+{
+  sl_error err = {0};
+  sl_load_options whole = {.time_index = time_index, .level_first = level_first, .level_count = level_count,
+                           .block_levels = 1000};
+  sl_storm_frame one;
+  if (!CHECK(sl_storm_load(path, &whole, &one, &err) == SL_OK)) {
+    fprintf(stderr, "%s\n", err.message);
+    return;
+  }
+  CHECK(total(&one) > 0.0);
+  const int blocks[] = {1, 2, 5};
+  for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; ++b) {
+    sl_load_options o = whole;
+    o.block_levels = blocks[b];
+    sl_storm_frame f;
+    char what[4200];
+    snprintf(what, sizeof what, "%s levels %d:%d in blocks of %d", path, level_first, level_count, blocks[b]);
+    if (CHECK_MSG(sl_storm_load(path, &o, &f, &err) == SL_OK, what)) {
+      CHECK_MSG(same_frame(&one, &f, what), what);
+      sl_storm_frame_free(&f);
+    } else {
+      fprintf(stderr, "%s\n", err.message);
+    }
+  }
+  /* The default blocks (64 MB of work arrays, rounded to the chunks) hold these small files
+   * whole; the same frame again. */
+  sl_load_options d = whole;
+  d.block_levels = 0;
+  sl_storm_frame f;
+  if (CHECK(sl_storm_load(path, &d, &f, &err) == SL_OK)) {
+    CHECK_MSG(same_frame(&one, &f, path), "default blocks");
+    sl_storm_frame_free(&f);
+  }
+  sl_storm_frame_free(&one);
+}
+
+int main(void)
+{
+  const char *shared = getenv("SL_SHARED_DIR");
+  char path[4096];
+  snprintf(path, sizeof path, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
+  check_blocks(path, 2, 0, 0);
+  check_blocks(path, 2, 3, 8);
+  snprintf(path, sizeof path, "%s/data/wrf/wrf_tibet2005_d01_lambert_thompson_4t_tiny.nc",
+           shared ? shared : "../shared");
+  check_blocks(path, 3, 0, 0);
+  snprintf(path, sizeof path, "%s/data/cm1/cm1_supercell_t060min.nc", shared ? shared : "../shared");
+  check_blocks(path, 0, 0, 0);
+  check_blocks(path, 0, 4, 21);
+  snprintf(path, sizeof path, "%s/data/cm1/cm1_bomex_les50m_t060min.nc", shared ? shared : "../shared");
+  check_blocks(path, 0, 0, 0);
+  return sl_test_finish("test_reader_blocks");
+}
