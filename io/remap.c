@@ -14,8 +14,9 @@
  * [ground + k dz, ground + (k + 1) dz]: each cell gains eta times its overlap / dz, so the column's
  * particle path (sum of eta times thickness), and with it the water path, is the model's wherever
  * the output spans the model column. */
+/* The levels written widen *k_lo .. *k_hi (the frame's content box). */
 static void deposit_layer(float *column, size_t stride, int nzo, double ground, double dz, double a, double b,
-                          double eta)
+                          double eta, int *k_lo, int *k_hi)
 {
   if (eta == 0.0 || b <= a) return;
   /* Clamped as doubles: a corrupt height far outside the grid must not overflow the int cast. */
@@ -25,7 +26,11 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
   for (int k = k0; k <= k1; ++k) {
     const double z0 = ground + k * dz, z1 = z0 + dz;
     const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
-    if (overlap > 0.0) column[(size_t)k * stride] += (float)(eta * overlap / dz);
+    if (overlap > 0.0) {
+      column[(size_t)k * stride] += (float)(eta * overlap / dz);
+      if (k < *k_lo) *k_lo = k;
+      if (k > *k_hi) *k_hi = k;
+    }
   }
 }
 
@@ -44,6 +49,7 @@ typedef struct remap_block {
   double ground, dz;
   float **lnr_eta;
   float *q, *qn; /* scratch: the species' variable and its number */
+  int *box_lo, *box_hi; /* the samples deposited so far (the frame's content box), widened here */
 } remap_block;
 
 /* Starts species i's stats (frame->species_stats[i]) before its first block. */
@@ -113,10 +119,22 @@ static int remap_species_block(const remap_block *x, const sl_level_reader *r, c
     }
     /* A column that sinks by the earth's curvature deposits lower in the grid. */
     const double sink = drop ? drop[c] : 0.0;
-    deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta);
+    int *lo = x->box_lo, *hi = x->box_hi, k_lo = nzo, k_hi = -1;
+    deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta, &k_lo,
+                  &k_hi);
     if (lnr_eta[target])
       deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
-                    eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m));
+                    eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m),
+                    &k_lo, &k_hi);
+    if (k_lo <= k_hi) {
+      const int at[2] = {(int)(c % (size_t)frame->volume.nx), (int)(c / (size_t)frame->volume.nx)};
+      for (int a = 0; a < 2; ++a) {
+        if (at[a] < lo[a]) lo[a] = at[a];
+        if (at[a] > hi[a]) hi[a] = at[a];
+      }
+      if (k_lo < lo[2]) lo[2] = k_lo;
+      if (k_hi > hi[2]) hi[2] = k_hi;
+    }
   }
   return SL_OK;
 }
@@ -170,14 +188,21 @@ int sl_remap_block_levels(const sl_level_reader *r, int nz, size_t n2)
  * storm with nothing at all keeps its first field, empty, and renders as the sky. */
 static void drop_empty_fields(sl_storm_frame *frame, float **lnr_eta)
 {
-  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1;
+  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1, lo[3], hi[3];
+  const sl_volume *v = &frame->volume;
+  const int any = sl_volume_content_samples(v, lo, hi);
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    const float *eta = frame->volume.eta[p];
+    const float *eta = v->eta[p];
     if (!eta) continue;
     if (first < 0) first = p;
-    size_t i = 0, n = sl_volume_count(&frame->volume);
-    while (i < n && eta[i] == 0.0f) ++i;
-    empty[p] = i == n;
+    empty[p] = 1;
+    for (int k = lo[2]; any && empty[p] && k <= hi[2]; ++k)
+      for (int j = lo[1]; empty[p] && j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i)
+          if (eta[sl_volume_index(v, i, j, k)] != 0.0f) {
+            empty[p] = 0;
+            break;
+          }
     held += !empty[p];
   }
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
@@ -241,6 +266,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     }
   }
   for (int i = 0; i < nspecies; ++i) species_stats_start(&frame->species_stats[i]);
+  int box_lo[3] = {nx, ny, nzo}, box_hi[3] = {-1, -1, -1};
   /* Each cell's deposit needs only its own level's heights, air and value: blocks of levels are the
    * outer loop, so the work arrays hold a block, and each variable is read once across them. */
   for (int k0 = 0, k1, last = 0; k0 < nz; last = k1 - k0, k0 = k1) {
@@ -259,11 +285,13 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       }
     if ((rc = r->air(r->ctx, k0, nk, rho_dry, rho_moist, frozen, err))) goto done;
     const remap_block x = {path, s->k0 + k0, k0, nk, n2, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz,
-                           lnr_eta, q, qn};
+                           lnr_eta, q, qn, box_lo, box_hi};
     for (int i = 0; i < nspecies; ++i)
       if ((rc = remap_species_block(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
   }
   for (int i = 0; i < nspecies; ++i) species_stats_finish(&species[i], i, n3, sums[i], frame);
+  frame->volume.content_known = 1;
+  for (int a = 0; a < 3; ++a) frame->volume.content_lo[a] = box_lo[a], frame->volume.content_hi[a] = box_hi[a];
   frame->nspecies = nspecies;
   drop_empty_fields(frame, lnr_eta);
   rc = sl_size_bins_split(&frame->volume, lnr_eta, max_fields, &frame->sizes, err);

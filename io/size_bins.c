@@ -51,13 +51,20 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
                        sl_error *err)
 {
   memset(out, 0, sizeof *out);
-  const size_t n = sl_volume_count(v);
+  /* Only the content box holds medium (sl_volume.h): rows of it, in the grid's order. */
+  int box_lo[3], box_hi[3];
+  if (!sl_volume_content_samples(v, box_lo, box_hi)) return SL_OK;
+  const size_t row = (size_t)(box_hi[0] - box_lo[0] + 1);
+#define FOR_CONTENT(q) \
+  for (int k_ = box_lo[2]; k_ <= box_hi[2]; ++k_) \
+    for (int j_ = box_lo[1]; j_ <= box_hi[1]; ++j_) \
+      for (size_t q = sl_volume_index(v, box_lo[0], j_, k_), q##_end = q + row; q < q##_end; ++q)
   double lo[SL_PARTICLE_COUNT], hi[SL_PARTICLE_COUNT], mid[SL_PARTICLE_COUNT];
   int want[SL_PARTICLE_COUNT] = {0}, sized = 0;
   for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
     if (!lnr_eta[t] || !v->eta[t]) continue;
     double h[HISTOGRAM] = {0}, total = 0.0;
-    for (size_t i = 0; i < n; ++i) {
+    FOR_CONTENT(i) {
       const double e = v->eta[t][i];
       if (!(e > 0.0)) continue;
       const double x = lnr_eta[t][i] / e;
@@ -125,7 +132,7 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
      * own tables, 3 Q / (4 rho r_own); a table of radius R_j has 3 Q / (4 rho R_j): the share of
      * the cell's extinction that goes to it is R_j / r_own times as many particles. */
     float *eta = v->eta[t];
-    for (size_t i = 0; i < n; ++i) {
+    FOR_CONTENT(i) {
       const double e = eta[i];
       if (!(e > 0.0)) continue;
       const double x = lnr_eta[t][i] / e;
@@ -140,5 +147,6 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
     out->count[t] = K;
     for (int j = 0; j < K; ++j) out->radius_m[t][j] = exp(R[j]);
   }
+#undef FOR_CONTENT
   return SL_OK;
 }

@@ -30,6 +30,9 @@ int sl_volume_condensate_boxes(const sl_volume *v, int n, const double *tau_min,
     return 0;
   }
   for (size_t c = 0; c < columns; ++c) k_lo[c] = k_hi[c] = -1;
+  /* Only the content box holds medium: the other columns and levels add nothing. */
+  int box_lo[3], box_hi[3];
+  const int box_any = sl_volume_content_samples(v, box_lo, box_hi);
   int no_memory = 0;
 #pragma omp parallel
   {
@@ -39,16 +42,16 @@ int sl_volume_condensate_boxes(const sl_volume *v, int n, const double *tau_min,
       no_memory = 1;
     }
 #pragma omp for schedule(static)
-    for (int j = 0; j < v->ny; ++j)
-      for (int k = 0; k < v->nz && beta; ++k) {
+    for (int j = box_lo[1]; j <= box_hi[1]; ++j)
+      for (int k = box_lo[2]; box_any && k <= box_hi[2] && beta; ++k) {
         const size_t q0 = sl_volume_index(v, 0, j, k), c0 = (size_t)j * v->nx;
-        for (int i = 0; i < v->nx; ++i) beta[i] = 0.0;
+        for (int i = box_lo[0]; i <= box_hi[0]; ++i) beta[i] = 0.0;
         for (int f = 0; f < nfield; ++f) {
           const float *eta = field[f] + q0;
           const double s = sigma[f];
-          for (int i = 0; i < v->nx; ++i) beta[i] += eta[i] > 0.0f ? eta[i] * s : 0.0;
+          for (int i = box_lo[0]; i <= box_hi[0]; ++i) beta[i] += eta[i] > 0.0f ? eta[i] * s : 0.0;
         }
-        for (int i = 0; i < v->nx; ++i) {
+        for (int i = box_lo[0]; i <= box_hi[0]; ++i) {
           const size_t c = c0 + i;
           tau[c] += beta[i] * v->spacing[2];
           if (beta[i] >= beta_min) {

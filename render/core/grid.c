@@ -25,6 +25,18 @@ int sl_volume_init(sl_volume *v, int nx, int ny, int nz, const double origin[3],
   return SL_OK;
 }
 
+int sl_volume_content_samples(const sl_volume *v, int lo[3], int hi[3])
+{
+  const int n[3] = {v->nx, v->ny, v->nz};
+  int any = 1;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = v->content_known && v->content_lo[a] > 0 ? v->content_lo[a] : 0;
+    hi[a] = v->content_known && v->content_hi[a] < n[a] - 1 ? v->content_hi[a] : n[a] - 1;
+    any &= lo[a] <= hi[a];
+  }
+  return any;
+}
+
 int sl_volume_add_field(sl_volume *v, sl_particle p, sl_error *err)
 {
   if ((int)p < 0 || p >= SL_PARTICLE_COUNT) return sl_fail(err, SL_ERR_ARG, "unknown particle field %d", (int)p);

@@ -29,6 +29,13 @@ typedef struct sl_volume {
    * (sl_optics_request.sizes); 0: the type's own tables. eta counts the type's representative
    * particles (sl_particles.h) either way. */
   double effective_radius_m[SL_VOLUME_SLOTS];
+  /* Where the fields may be non-zero, when the one who filled them knows (the loader: where the
+   * remap deposited): samples content_lo .. content_hi (inclusive, empty where lo > hi), every
+   * field zero outside. Zero-initialised (content_known 0): anywhere. Passes over the fields read
+   * only this box: a storm's clear air is most of a large grid, and never written it takes no
+   * memory until read (some kernels give even a read its own page). */
+  int content_known;
+  int content_lo[3], content_hi[3];
 } sl_volume;
 
 static inline sl_particle sl_volume_field_type(const sl_volume *v, int slot)
@@ -54,6 +61,9 @@ static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)
 {
   return ((size_t)k * (size_t)v->ny + (size_t)j) * (size_t)v->nx + (size_t)i;
 }
+/* The samples that may hold medium (content_lo .. content_hi where content_known, else the whole
+ * grid) into lo, hi (inclusive); 0 when there are none. */
+int sl_volume_content_samples(const sl_volume *v, int lo[3], int hi[3]);
 /* Axis-aligned box covered by the cells: samples sit at cell centres. */
 void sl_volume_bounds(const sl_volume *v, double lo[3], double hi[3]);
 /* The boxes around the storm's condensate, one per threshold tau_min[b], from one pass over the

@@ -19,9 +19,12 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
   r->brick_beta_max = calloc(bricks, sizeof(float));
   if (!r->empty_radius || !r->brick_beta_max) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
   memset(r->empty_radius, 1, bricks);
-  for (int k = 0; k < v->nz; ++k)
-    for (int j = 0; j < v->ny; ++j)
-      for (int i = 0; i < v->nx; ++i) {
+  /* Outside the volume's content box every field, and so the total, is zero. */
+  int lo[3], hi[3];
+  const int any = sl_volume_content_samples(v, lo, hi);
+  for (int k = lo[2]; any && k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
         const float beta = r->beta[sl_volume_index(v, i, j, k)];
         if (!(beta > 0.0f)) continue;
         /* A sample feeds the trilinear cells whose lower corner is itself or one below it. */
@@ -150,10 +153,11 @@ void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3
 void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3])
 {
   const sl_volume *v = &r->shape;
-  int mn[3] = {v->nx, v->ny, v->nz}, mx[3] = {-1, -1, -1};
-  for (int k = 0; k < v->nz; ++k)
-    for (int j = 0; j < v->ny; ++j)
-      for (int i = 0; i < v->nx; ++i) {
+  int mn[3] = {v->nx, v->ny, v->nz}, mx[3] = {-1, -1, -1}, box_lo[3], box_hi[3];
+  const int any = sl_volume_content_samples(v, box_lo, box_hi); /* zero outside */
+  for (int k = box_lo[2]; any && k <= box_hi[2]; ++k)
+    for (int j = box_lo[1]; j <= box_hi[1]; ++j)
+      for (int i = box_lo[0]; i <= box_hi[0]; ++i) {
         if (!(r->beta[sl_volume_index(v, i, j, k)] > 0.0f)) continue;
         const int idx[3] = {i, j, k};
         for (int a = 0; a < 3; ++a) {

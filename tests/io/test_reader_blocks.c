@@ -7,7 +7,8 @@
  * Real files: the WRF Katrina (WSM3, chunks of 14 levels, cloud split into ice) and Tibet
  * (Thompson with numbers, contiguous) runs, the CM1 supercell (two-moment, numbers per kg) and a
  * BOMEX LES time (shallow cumulus). Level subsets (--levels) start the blocks off the file's
- * first level. The CF pressure-level layouts, reversed and masked below the ground, are checked in
+ * first level. The frame's content box, which the passes over the fields keep to, is checked
+ * against a scan of the fields. The CF pressure-level layouts, reversed and masked below the ground, are checked in
  * test_reader_pressure.c. */
 #include <math.h>
 #include <stdio.h>
@@ -29,6 +30,8 @@ static int same_stats(const sl_field_stats *a, const sl_field_stats *b)
 static int same_frame(const sl_storm_frame *a, const sl_storm_frame *b, const char *what)
 {
   int same = a->volume.nx == b->volume.nx && a->volume.ny == b->volume.ny && a->volume.nz == b->volume.nz &&
+             memcmp(a->volume.content_lo, b->volume.content_lo, sizeof a->volume.content_lo) == 0 &&
+             memcmp(a->volume.content_hi, b->volume.content_hi, sizeof a->volume.content_hi) == 0 &&
              memcmp(a->volume.origin, b->volume.origin, sizeof a->volume.origin) == 0 &&
              memcmp(a->volume.spacing, b->volume.spacing, sizeof a->volume.spacing) == 0;
   const size_t n = (size_t)a->volume.nx * a->volume.ny * a->volume.nz;
@@ -61,6 +64,32 @@ static double total(const sl_storm_frame *f)
   return sum;
 }
 
+/* The frame's content box (sl_volume.h) against a scan of every field: it holds every non-zero
+ * sample, and each of its six faces touches one (the box is where the remap deposited). */
+static int content_box_is_tight(const sl_storm_frame *f)
+{
+  const sl_volume *v = &f->volume;
+  int lo[3] = {v->nx, v->ny, v->nz}, hi[3] = {-1, -1, -1};
+  for (int p = 0; p < SL_VOLUME_SLOTS; ++p)
+    for (int k = 0; v->eta[p] && k < v->nz; ++k)
+      for (int j = 0; j < v->ny; ++j)
+        for (int i = 0; i < v->nx; ++i) {
+          if (v->eta[p][sl_volume_index(v, i, j, k)] == 0.0f) continue;
+          const int at[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            if (at[a] < lo[a]) lo[a] = at[a];
+            if (at[a] > hi[a]) hi[a] = at[a];
+          }
+        }
+  int tight = v->content_known;
+  for (int a = 0; a < 3; ++a) tight &= v->content_lo[a] == lo[a] && v->content_hi[a] == hi[a];
+  if (!tight)
+    fprintf(stderr, "content box %d..%d, %d..%d, %d..%d; non-zero samples %d..%d, %d..%d, %d..%d\n", v->content_lo[0],
+            v->content_hi[0], v->content_lo[1], v->content_hi[1], v->content_lo[2], v->content_hi[2], lo[0], hi[0], lo[1],
+            hi[1], lo[2], hi[2]);
+  return tight;
+}
+
 static void check_blocks(const char *path, int time_index, int level_first, int level_count)
 {
   sl_error err = {0};
@@ -72,6 +101,7 @@ static void check_blocks(const char *path, int time_index, int level_first, int 
     return;
   }
   CHECK(total(&one) > 0.0);
+  CHECK_MSG(content_box_is_tight(&one), path);
   const int blocks[] = {1, 2, 5};
   for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; ++b) {
     sl_load_options o = whole;
