@@ -1,5 +1,5 @@
 /* Shared by the storm readers (wrf_read.c, cf_read.c): NetCDF helpers, the species mapping and
- * the remap that turns one variable at a time into the uniform grid. Not installed. */
+ * the remap that turns a block of levels at a time into the uniform grid. Not installed. */
 #ifndef SL_STORM_INTERNAL_H
 #define SL_STORM_INTERNAL_H
 
