@@ -199,6 +199,8 @@ static int render_main(int argc, char **argv, sl::FrameKeep *keep)
     if (!sl::read_night_scene(*settings, frame, &night, &why) || !sl::night_prepare_view(&night, &cam, &why))
       return sl::fail(cmd, why, 2);
   }
+  // One frame from here on: the renderer holds the storm's extinction.
+  session.release_fields();
 
   sl_image volume{}, background{}, frame_img{};
   int rc = 0;

@@ -116,6 +116,11 @@ bool RenderSession::prepare(const sl_settings &s, bool quiet, std::string *why, 
   return true;
 }
 
+void RenderSession::release_fields()
+{
+  for (int k = 0; k < SL_VOLUME_SLOTS; ++k) sl_volume_drop_field(&built.frame.volume, k);
+}
+
 bool RenderSession::set_sun(double elevation_deg, double compass_azimuth_deg, std::string *why)
 {
   double sun[3];

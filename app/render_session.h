@@ -61,6 +61,12 @@ class RenderSession {
   // The light-volume march's samples per grid cell (1..8) for the next draws; false with why.
   bool set_march_samples(int samples, std::string *why);
 
+  // Frees the loaded fields once the renderer, the camera and the scene around the storm have read
+  // them: the renderer draws from its own extinction grids, so a frame drawn once need not hold a
+  // second copy of the storm through its passes and composite (on a 1000 x 1000 x 160 deck, half a
+  // gigabyte). The frame keeps its grid, stats and columns; its fields are absent after.
+  void release_fields();
+
   // The volume layer and the background for cam. gpu: the GPU pass, falling back to the CPU
   // with *gpu_note saying why (then *gpu_done is false).
   bool draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_image *background, sl_render_stats *stats,

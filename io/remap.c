@@ -14,11 +14,13 @@
  * [ground + k dz, ground + (k + 1) dz]: each cell gains eta times its overlap / dz, so the column's
  * particle path (sum of eta times thickness), and with it the water path, is the model's wherever
  * the output spans the model column. */
-/* The levels written widen *k_lo .. *k_hi (the frame's content box). */
-static void deposit_layer(float *column, size_t stride, int nzo, double ground, double dz, double a, double b,
-                          double eta, int *k_lo, int *k_hi)
+/* The levels written widen *k_lo .. *k_hi (the frame's content box). Returns 1 when it added a
+ * non-zero value (the column then holds medium: every value added is positive). */
+static int deposit_layer(float *column, size_t stride, int nzo, double ground, double dz, double a, double b,
+                         double eta, int *k_lo, int *k_hi)
 {
-  if (eta == 0.0 || b <= a) return;
+  int added = 0;
+  if (eta == 0.0 || b <= a) return 0;
   /* Clamped as doubles: a corrupt height far outside the grid must not overflow the int cast. */
   const double u0 = floor((a - ground) / dz), u1 = floor((b - ground) / dz);
   const int k0 = u0 < 0.0 ? 0 : u0 > nzo - 1 ? nzo - 1 : (int)u0;
@@ -27,11 +29,14 @@ static void deposit_layer(float *column, size_t stride, int nzo, double ground, 
     const double z0 = ground + k * dz, z1 = z0 + dz;
     const double overlap = (b < z1 ? b : z1) - (a > z0 ? a : z0);
     if (overlap > 0.0) {
-      column[(size_t)k * stride] += (float)(eta * overlap / dz);
+      const float add = (float)(eta * overlap / dz);
+      column[(size_t)k * stride] += add;
+      added |= add != 0.0f;
       if (k < *k_lo) *k_lo = k;
       if (k > *k_hi) *k_hi = k;
     }
   }
+  return added;
 }
 
 /* One block of levels as the deposit reads it: the block's interfaces (z, n2 apart per level, nk + 1
@@ -50,6 +55,7 @@ typedef struct remap_block {
   float **lnr_eta;
   float *q, *qn; /* scratch: the species' variable and its number */
   int *box_lo, *box_hi; /* the samples deposited so far (the frame's content box), widened here */
+  int *held;            /* per particle type: 1 once a deposit left a non-zero value in its field */
 } remap_block;
 
 /* Starts species i's stats (frame->species_stats[i]) before its first block. */
@@ -120,8 +126,9 @@ static int remap_species_block(const remap_block *x, const sl_level_reader *r, c
     /* A column that sinks by the earth's curvature deposits lower in the grid. */
     const double sink = drop ? drop[c] : 0.0;
     int *lo = x->box_lo, *hi = x->box_hi, k_lo = nzo, k_hi = -1;
-    deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta, &k_lo,
-                  &k_hi);
+    if (deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta,
+                      &k_lo, &k_hi))
+      x->held[target] = 1;
     if (lnr_eta[target])
       deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
                     eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m),
@@ -185,28 +192,18 @@ int sl_remap_block_levels(const sl_level_reader *r, int nz, size_t n2)
 
 /* Model only what the scene needs: a type that holds nothing at this time (BOMEX's ice, the
  * supercell's ice and snow at 10 minutes) gets no field, so no tables and no per-sample work. A
- * storm with nothing at all keeps its first field, empty, and renders as the sky. */
-static void drop_empty_fields(sl_storm_frame *frame, float **lnr_eta)
+ * storm with nothing at all keeps its first field, empty, and renders as the sky. Which fields
+ * hold anything the deposits said (held): a scan would read a whole empty field. */
+static void drop_empty_fields(sl_storm_frame *frame, float **lnr_eta, const int held[SL_PARTICLE_COUNT])
 {
-  int empty[SL_PARTICLE_COUNT] = {0}, held = 0, first = -1, lo[3], hi[3];
-  const sl_volume *v = &frame->volume;
-  const int any = sl_volume_content_samples(v, lo, hi);
-  for (int p = 0; p < SL_PARTICLE_COUNT; ++p) {
-    const float *eta = v->eta[p];
-    if (!eta) continue;
-    if (first < 0) first = p;
-    empty[p] = 1;
-    for (int k = lo[2]; any && empty[p] && k <= hi[2]; ++k)
-      for (int j = lo[1]; empty[p] && j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i)
-          if (eta[sl_volume_index(v, i, j, k)] != 0.0f) {
-            empty[p] = 0;
-            break;
-          }
-    held += !empty[p];
-  }
+  int any = 0, first = -1;
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
-    if (empty[p] && (held > 0 || p != first)) {
+    if (frame->volume.eta[p]) {
+      if (first < 0) first = p;
+      any |= held[p];
+    }
+  for (int p = 0; p < SL_PARTICLE_COUNT; ++p)
+    if (frame->volume.eta[p] && !held[p] && (any || p != first)) {
       sl_volume_drop_field(&frame->volume, p);
       free(lnr_eta[p]);
       lnr_eta[p] = NULL;
@@ -266,7 +263,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     }
   }
   for (int i = 0; i < nspecies; ++i) species_stats_start(&frame->species_stats[i]);
-  int box_lo[3] = {nx, ny, nzo}, box_hi[3] = {-1, -1, -1};
+  int box_lo[3] = {nx, ny, nzo}, box_hi[3] = {-1, -1, -1}, held[SL_PARTICLE_COUNT] = {0};
   /* Each cell's deposit needs only its own level's heights, air and value: blocks of levels are the
    * outer loop, so the work arrays hold a block, and each variable is read once across them. */
   for (int k0 = 0, k1, last = 0; k0 < nz; last = k1 - k0, k0 = k1) {
@@ -285,7 +282,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
       }
     if ((rc = r->air(r->ctx, k0, nk, rho_dry, rho_moist, frozen, err))) goto done;
     const remap_block x = {path, s->k0 + k0, k0, nk, n2, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz,
-                           lnr_eta, q, qn, box_lo, box_hi};
+                           lnr_eta, q, qn, box_lo, box_hi, held};
     for (int i = 0; i < nspecies; ++i)
       if ((rc = remap_species_block(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
   }
@@ -293,7 +290,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
   frame->volume.content_known = 1;
   for (int a = 0; a < 3; ++a) frame->volume.content_lo[a] = box_lo[a], frame->volume.content_hi[a] = box_hi[a];
   frame->nspecies = nspecies;
-  drop_empty_fields(frame, lnr_eta);
+  drop_empty_fields(frame, lnr_eta, held);
   rc = sl_size_bins_split(&frame->volume, lnr_eta, max_fields, &frame->sizes, err);
 done:
   for (int p = 0; p < SL_PARTICLE_COUNT; ++p) free(lnr_eta[p]);

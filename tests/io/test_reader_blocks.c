@@ -65,23 +65,30 @@ static double total(const sl_storm_frame *f)
 }
 
 /* The frame's content box (sl_volume.h) against a scan of every field: it holds every non-zero
- * sample, and each of its six faces touches one (the box is where the remap deposited). */
+ * sample, and each of its six faces touches one (the box is where the remap deposited); and no
+ * field the frame keeps is empty. */
 static int content_box_is_tight(const sl_storm_frame *f)
 {
   const sl_volume *v = &f->volume;
-  int lo[3] = {v->nx, v->ny, v->nz}, hi[3] = {-1, -1, -1};
-  for (int p = 0; p < SL_VOLUME_SLOTS; ++p)
+  int lo[3] = {v->nx, v->ny, v->nz}, hi[3] = {-1, -1, -1}, empty_field = 0;
+  for (int p = 0; p < SL_VOLUME_SLOTS; ++p) {
+    int held = 0;
     for (int k = 0; v->eta[p] && k < v->nz; ++k)
       for (int j = 0; j < v->ny; ++j)
         for (int i = 0; i < v->nx; ++i) {
           if (v->eta[p][sl_volume_index(v, i, j, k)] == 0.0f) continue;
+          held = 1;
           const int at[3] = {i, j, k};
           for (int a = 0; a < 3; ++a) {
             if (at[a] < lo[a]) lo[a] = at[a];
             if (at[a] > hi[a]) hi[a] = at[a];
           }
         }
-  int tight = v->content_known;
+    empty_field |= v->eta[p] && !held;
+  }
+  /* Every field kept holds medium (the load drops the empty ones, by what its deposits left). */
+  if (empty_field) fprintf(stderr, "a field the frame keeps is empty\n");
+  int tight = v->content_known && !empty_field;
   for (int a = 0; a < 3; ++a) tight &= v->content_lo[a] == lo[a] && v->content_hi[a] == hi[a];
   if (!tight)
     fprintf(stderr, "content box %d..%d, %d..%d, %d..%d; non-zero samples %d..%d, %d..%d, %d..%d\n", v->content_lo[0],

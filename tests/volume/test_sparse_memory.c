@@ -80,6 +80,7 @@ int main(void)
     printf("content box %s: renderer's grids %.0f MB; resident set grew by %.1f MB\n", known ? "known" : "unknown",
            grids / 1e6, (after - before) / 1e6);
 #if defined(__SANITIZE_ADDRESS__)
+    (void)zero_page;
     printf("AddressSanitizer: the bound is not checked\n");
 #else
     /* With the box known the renderer reads nothing outside it, so the bound holds on any kernel. */
