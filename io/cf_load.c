@@ -20,7 +20,8 @@ typedef struct cf_levels {
   int t;
   size_t n2;
   double *z_iface;      /* interfaces of the whole column, m (height levels) */
-  double *z_cols;       /* heights by column (cf_column_levels): the subset's interfaces, [k][y][x], m */
+  float *z_levels;      /* heights by column (cf_column_levels): every level of the file, from the bottom,
+                           [k][y][x], m; the interfaces come from them (column_interface) */
   double *p_level;      /* pressure levels: each subset level's pressure, Pa, from the bottom */
   int *kb;              /* heights by column: per column the first level above the ground (levels
                            below it may be missing: no air, no cloud), counted from the file's bottom */
@@ -100,14 +101,32 @@ static int cf_block(cf_levels *c, const sl_nc_var *v, int k_block, int nk, float
   return SL_OK;
 }
 
+/* Interface kk (below level kk, 0 .. n) of column i of n level heights z ([k][column], n2 columns,
+ * n >= 2): level_interfaces' rule for one interface, in the same arithmetic, so that a block of the
+ * remap needs no whole grid of interfaces. */
+static double column_interface(const float *z, size_t n2, size_t n, size_t kk, size_t i)
+{
+  if (kk == 0) {
+    const double z0 = z[i], above = 0.5 * (z0 + (double)z[n2 + i]);
+    return z0 - (above - z0);
+  }
+  if (kk == n) {
+    const double top = z[(n - 1) * n2 + i], below = 0.5 * ((double)z[(n - 2) * n2 + i] + top);
+    return top + (top - below);
+  }
+  return 0.5 * ((double)z[(kk - 1) * n2 + i] + (double)z[kk * n2 + i]);
+}
+
 static int cf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
 {
   (void)err;
   cf_levels *c = ctx;
-  for (int k = 0; k < nk; ++k)
+  for (int k = 0; k < nk; ++k) {
+    const size_t kk = (size_t)(c->s->k0 + k0 + k);
     for (size_t i = 0; i < c->n2; ++i)
       z[(size_t)k * c->n2 + i] =
-          c->z_cols ? c->z_cols[(size_t)(k0 + k) * c->n2 + i] : c->z_iface[c->s->k0 + k0 + k];
+          c->z_levels ? column_interface(c->z_levels, c->n2, c->L->len[1], kk, i) : c->z_iface[kk];
+  }
   return SL_OK;
 }
 
@@ -198,17 +217,8 @@ static int cf_chunk_levels(cf_levels *c, int *levels, int *phase, sl_error *err)
     const int e = air[i] ? sl_nc_chunk_levels(c->f, air[i]) : 1;
     if (e > *levels) *levels = e;
   }
-  for (int i = 0; i < 2 * c->nspecies; ++i) {
-    const char *name = i % 2 ? c->species[i / 2].number_variable : c->species[i / 2].variable;
-    const sl_nc_var *v;
-    int rc;
-    if (!name[0]) continue;
-    if ((rc = sl_var_cache_get(&c->cache, c->f, name, dims, lens, &v, err))) return rc;
-    const int e = sl_nc_chunk_levels(c->f, v);
-    if (e > *levels) *levels = e;
-  }
   *phase = c->L->flip[1] ? c->s->k0 - (int)c->L->len[1] : c->s->k0;
-  return SL_OK;
+  return sl_species_chunk_levels(&c->cache, c->f, dims, lens, c->species, c->nspecies, levels, err);
 }
 
 
@@ -337,13 +347,12 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
   if (n < 2)
     return sl_fail(err, SL_ERR_FORMAT, "%s: one %s level has no thickness: such a grid needs two or more", f->path,
                    pressure ? "pressure" : "model");
-  double *p = malloc(n * sizeof(double)), *zh = malloc((2 * n + 1) * sizeof(double)), *zi = zh + n;
-  float *z = malloc(n * n2 * sizeof(float));
-  c->z_cols = malloc((nz + 1) * n2 * sizeof(double));
+  double *p = malloc(n * sizeof(double));
+  float *z = c->z_levels = malloc(n * n2 * sizeof(float)); /* kept: the remap's interfaces come from it */
   c->p_level = pressure ? malloc(nz * sizeof(double)) : NULL;
   c->kb = malloc(n2 * sizeof(int));
   int rc = SL_OK;
-  if (!p || !zh || !z || !c->z_cols || (pressure && !c->p_level) || !c->kb) {
+  if (!p || !z || (pressure && !c->p_level) || !c->kb) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", f->path);
     goto done;
   }
@@ -413,16 +422,13 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
                      z[k * n2 + i]);
         goto done;
       }
-    for (size_t k = 0; k < n; ++k) zh[k] = z[k * n2 + i];
-    level_interfaces(zh, n, zi); /* interface kk lies below level kk */
-    for (size_t k = 0; k <= nz; ++k) c->z_cols[k * n2 + i] = zi[(size_t)k0 + k];
   }
   *ground = INFINITY, *top = -INFINITY;
   /* The grid starts at the lowest interface above the ground (the layers below hold nothing). */
   for (size_t i = 0; i < n2; ++i) {
     const int lowest = c->kb[i] > k0 ? (c->kb[i] - k0 < (int)nz ? c->kb[i] - k0 : (int)nz) : 0;
-    *ground = fmin(*ground, c->z_cols[(size_t)lowest * n2 + i]);
-    *top = fmax(*top, c->z_cols[nz * n2 + i]);
+    *ground = fmin(*ground, column_interface(z, n2, n, (size_t)(k0 + lowest), i));
+    *top = fmax(*top, column_interface(z, n2, n, (size_t)k0 + nz, i));
   }
   if (!(*top <= 1e5) || !(*ground >= -1e4)) {
     rc = sl_fail(err, SL_ERR_DATA, "%s: '%s' spans %g to %g m, not an atmosphere (are its units right?)", f->path,
@@ -432,8 +438,6 @@ static int cf_column_levels(cf_levels *c, double *ground, double *top, sl_error 
   for (size_t k = 0; pressure && k < nz; ++k) c->p_level[k] = p[(size_t)k0 + k];
 done:
   free(p);
-  free(zh);
-  free(z);
   return rc;
 }
 
@@ -482,9 +486,9 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if (rc) return rc;
   if (opt && opt->has_region) return sl_fail(err, SL_ERR_ARG, "%s: --region needs a WRF file (XLAT/XLONG)", f->path);
   frame->memory_estimate = sl_storm_memory_estimate(info, opt);
-  /* Heights by column (cf_column_levels): every level's height (float) and the interfaces (double). */
+  /* Heights by column (cf_column_levels): every level's height (float), held through the load. */
   if (L.z_to_pa > 0.0 || L.hybrid_height || L.altitude_3d)
-    frame->memory_estimate += (double)info->nx * info->ny * (info->nz * sizeof(float) + (info->nz + 1) * sizeof(double));
+    frame->memory_estimate += (double)info->nx * info->ny * info->nz * sizeof(float);
   if ((rc = sl_check_memory(f->path, frame->memory_estimate, opt, err))) return rc;
   sl_subset s = {0, 0, opt && opt->stride > 1 ? opt->stride : 1, 0, 0, opt ? opt->level_first : 0, 0};
   s.nx = (info->nx - 1) / s.stride + 1, s.ny = (info->ny - 1) / s.stride + 1;
@@ -539,7 +543,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   const double nzo = ceil((top - ground) / dz), n2 = (double)c.n2;
   frame->memory_estimate = sl_load_bytes((size_t)s.nx, (size_t)s.ny, (size_t)sl_remap_block_levels(&r, s.nz, c.n2),
                                          nzo > 1 ? (size_t)fmin(nzo, 1e9) : 1, sl_species_type_count(species, nspecies)) +
-                           (c.z_cols ? n2 * (s.nz + 1) * sizeof(double) : 0.0);
+                           (c.z_levels ? n2 * (double)L.len[1] * sizeof(float) : 0.0);
   if (nzo <= 4096 && (rc = sl_check_memory(f->path, frame->memory_estimate, opt, err))) goto done;
   if ((rc = sl_remap_levels(f->path, &r, &s, species, nspecies, ground, top, dz,
                             (const double[2]){info->dx * s.stride, info->dy * s.stride}, NULL, NULL,
@@ -567,7 +571,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
     goto done;
 done:
   free(c.z_iface);
-  free(c.z_cols);
+  free(c.z_levels);
   free(c.p_level);
   free(c.kb);
   return rc;

@@ -248,6 +248,21 @@ int sl_nc_chunk_levels(const sl_nc *f, const sl_nc_var *v)
   return levels > 1 && levels < 100000 ? (int)levels : 1;
 }
 
+int sl_species_chunk_levels(sl_var_cache *cache, const sl_nc *f, const char *const dims[3], const size_t lens[3],
+                            const sl_species *species, int nspecies, int *levels, sl_error *err)
+{
+  for (int i = 0; i < 2 * nspecies; ++i) {
+    const char *name = i % 2 ? species[i / 2].number_variable : species[i / 2].variable;
+    const sl_nc_var *v = NULL;
+    int rc;
+    if (!name[0]) continue;
+    if ((rc = sl_var_cache_get(cache, f, name, dims, lens, &v, err))) return rc;
+    const int e = sl_nc_chunk_levels(f, v);
+    if (e > *levels) *levels = e;
+  }
+  return SL_OK;
+}
+
 int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err)
 {
   return sl_fail(err, SL_ERR_DATA, "%s: variable '%s' has NaN, Inf or missing values at time %d", f->path, name, t);

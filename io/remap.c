@@ -13,9 +13,9 @@
 /* Conservative remap of one model layer [a, b] of constant value `eta` onto output cells
  * [ground + k dz, ground + (k + 1) dz]: each cell gains eta times its overlap / dz, so the column's
  * particle path (sum of eta times thickness), and with it the water path, is the model's wherever
- * the output spans the model column. */
-/* The levels written widen *k_lo .. *k_hi (the frame's content box). Returns 1 when it added a
- * non-zero value (the column then holds medium: every value added is positive). */
+ * the output spans the model column. The levels written widen *k_lo .. *k_hi (the frame's
+ * content box). Returns 1 when it added a non-zero value (the column then holds medium: every value
+ * added is positive). */
 static int deposit_layer(float *column, size_t stride, int nzo, double ground, double dz, double a, double b,
                          double eta, int *k_lo, int *k_hi)
 {

@@ -90,6 +90,10 @@ int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int 
                          sl_error *err);
 /* The levels one compressed chunk of 3-D variable v spans (1 when v is contiguous or 2-D). */
 int sl_nc_chunk_levels(const sl_nc *f, const sl_nc_var *v);
+/* Raises *levels to the largest chunk layer of the species' variables and numbers (3-D, of shape
+ * dims, lens), each opened through the cache. */
+int sl_species_chunk_levels(sl_var_cache *cache, const sl_nc *f, const char *const dims[3], const size_t lens[3],
+                            const sl_species *species, int nspecies, int *levels, sl_error *err);
 /* The error for a NaN, infinite or missing value in variable `name`. */
 int sl_nc_fail_missing(const sl_nc *f, const char *name, int t, sl_error *err);
 /* Fails on NaN/Inf naming the variable. */

@@ -291,16 +291,7 @@ static int wrf_chunk_levels(wrf_levels *w, const sl_species *species, int nspeci
     const int e = sl_nc_chunk_levels(w->f, air[i]);
     if (e > *levels) *levels = e;
   }
-  for (int i = 0; i < 2 * nspecies; ++i) {
-    const char *name = i % 2 ? species[i / 2].number_variable : species[i / 2].variable;
-    const sl_nc_var *v;
-    int rc;
-    if (!name[0]) continue;
-    if ((rc = sl_var_cache_get(&w->cache, w->f, name, d3, w->l3, &v, err))) return rc;
-    const int e = sl_nc_chunk_levels(w->f, v);
-    if (e > *levels) *levels = e;
-  }
-  return SL_OK;
+  return sl_species_chunk_levels(&w->cache, w->f, d3, w->l3, species, nspecies, levels, err);
 }
 
 /* Columns inside lat0..lat1, lon0..lon1 at time t: their bounding box in grid indices. */
