@@ -7,7 +7,7 @@
  * Real files: the WRF Katrina (WSM3, chunks of 14 levels, cloud split into ice) and Tibet
  * (Thompson with numbers, contiguous) runs, the CM1 supercell (two-moment, numbers per kg) and a
  * BOMEX LES time (shallow cumulus). Level subsets (--levels) start the blocks off the file's
- * first level. The frame's content box, which the passes over the fields keep to, is checked
+ * first level; column subsets (--stride, --region) and the earth's curvature come along. The frame's content box, which the passes over the fields keep to, is checked
  * against a scan of the fields. The CF pressure-level layouts, reversed and masked below the ground, are checked in
  * test_reader_pressure.c. */
 #include <math.h>
@@ -97,11 +97,13 @@ static int content_box_is_tight(const sl_storm_frame *f)
   return tight;
 }
 
-static void check_blocks(const char *path, int time_index, int level_first, int level_count)
+/* The load of `path` with options base (its block size aside) in blocks against one block. */
+static void check_blocks_with(const char *path, sl_load_options base)
 {
   sl_error err = {0};
-  sl_load_options whole = {.time_index = time_index, .level_first = level_first, .level_count = level_count,
-                           .block_levels = 1000};
+  sl_load_options whole = base;
+  whole.block_levels = 1000;
+  const int level_first = base.level_first, level_count = base.level_count;
   sl_storm_frame one;
   if (!CHECK(sl_storm_load(path, &whole, &one, &err) == SL_OK)) {
     fprintf(stderr, "%s\n", err.message);
@@ -135,6 +137,12 @@ static void check_blocks(const char *path, int time_index, int level_first, int 
   sl_storm_frame_free(&one);
 }
 
+static void check_blocks(const char *path, int time_index, int level_first, int level_count)
+{
+  check_blocks_with(path, (sl_load_options){.time_index = time_index, .level_first = level_first,
+                                            .level_count = level_count});
+}
+
 int main(void)
 {
   const char *shared = getenv("SL_SHARED_DIR");
@@ -142,6 +150,10 @@ int main(void)
   snprintf(path, sizeof path, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
   check_blocks(path, 2, 0, 0);
   check_blocks(path, 2, 3, 8);
+  /* Every other column, and the columns of a latitude-longitude box, with the earth's curvature:
+   * the blocks change only which levels are read. */
+  check_blocks_with(path, (sl_load_options){.time_index = 1, .stride = 2, .earth_curvature = 1});
+  check_blocks_with(path, (sl_load_options){.time_index = 1, .has_region = 1, .region = {24.0, 27.0, -90.0, -86.0}});
   snprintf(path, sizeof path, "%s/data/wrf/wrf_tibet2005_d01_lambert_thompson_4t_tiny.nc",
            shared ? shared : "../shared");
   check_blocks(path, 3, 0, 0);
