@@ -54,24 +54,22 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
   /* Only the content box holds medium (sl_volume.h): rows of it, in the grid's order. */
   int box_lo[3], box_hi[3];
   if (!sl_volume_content_samples(v, box_lo, box_hi)) return SL_OK;
-  const size_t row = (size_t)(box_hi[0] - box_lo[0] + 1);
-#define FOR_CONTENT(q) \
-  for (int k_ = box_lo[2]; k_ <= box_hi[2]; ++k_) \
-    for (int j_ = box_lo[1]; j_ <= box_hi[1]; ++j_) \
-      for (size_t q = sl_volume_index(v, box_lo[0], j_, k_), q##_end = q + row; q < q##_end; ++q)
+  const long rows = sl_volume_box_rows(box_lo, box_hi);
+  const size_t row_length = (size_t)(box_hi[0] - box_lo[0] + 1);
   double lo[SL_PARTICLE_COUNT], hi[SL_PARTICLE_COUNT], mid[SL_PARTICLE_COUNT];
   int want[SL_PARTICLE_COUNT] = {0}, sized = 0;
   for (int t = 0; t < SL_PARTICLE_COUNT; ++t) {
     if (!lnr_eta[t] || !v->eta[t]) continue;
     double h[HISTOGRAM] = {0}, total = 0.0;
-    FOR_CONTENT(i) {
-      const double e = v->eta[t][i];
-      if (!(e > 0.0)) continue;
-      const double x = lnr_eta[t][i] / e;
-      int b = (int)floor((x - LN_R_LO) / (LN_R_HI - LN_R_LO) * HISTOGRAM);
-      b = b < 0 ? 0 : (b >= HISTOGRAM ? HISTOGRAM - 1 : b);
-      h[b] += e, total += e;
-    }
+    for (long r = 0; r < rows; ++r)
+      for (size_t i = sl_volume_box_row(v, box_lo, box_hi, r), end = i + row_length; i < end; ++i) {
+        const double e = v->eta[t][i];
+        if (!(e > 0.0)) continue;
+        const double x = lnr_eta[t][i] / e;
+        int b = (int)floor((x - LN_R_LO) / (LN_R_HI - LN_R_LO) * HISTOGRAM);
+        b = b < 0 ? 0 : (b >= HISTOGRAM ? HISTOGRAM - 1 : b);
+        h[b] += e, total += e;
+      }
     if (!(total > 0.0)) continue;
     lo[t] = lattice(quantile(h, total, TAIL), floor);
     hi[t] = lattice(quantile(h, total, 1.0 - TAIL), ceil);
@@ -132,21 +130,21 @@ int sl_size_bins_split(sl_volume *v, float *const lnr_eta[SL_PARTICLE_COUNT], in
      * own tables, 3 Q / (4 rho r_own); a table of radius R_j has 3 Q / (4 rho R_j): the share of
      * the cell's extinction that goes to it is R_j / r_own times as many particles. */
     float *eta = v->eta[t];
-    FOR_CONTENT(i) {
-      const double e = eta[i];
-      if (!(e > 0.0)) continue;
-      const double x = lnr_eta[t][i] / e;
-      int j = 0;
-      while (j + 2 < K && x > R[j + 1]) ++j;
-      double w = K == 1 ? 0.0 : (x - R[j]) / (R[j + 1] - R[j]);
-      w = w < 0.0 ? 0.0 : (w > 1.0 ? 1.0 : w);
-      eta[i] = 0.0f;
-      v->eta[slot[j]][i] += (float)((1.0 - w) * e * exp(R[j]) / r_own);
-      if (w > 0.0) v->eta[slot[j + 1]][i] += (float)(w * e * exp(R[j + 1]) / r_own);
-    }
+    for (long r = 0; r < rows; ++r)
+      for (size_t i = sl_volume_box_row(v, box_lo, box_hi, r), end = i + row_length; i < end; ++i) {
+        const double e = eta[i];
+        if (!(e > 0.0)) continue;
+        const double x = lnr_eta[t][i] / e;
+        int j = 0;
+        while (j + 2 < K && x > R[j + 1]) ++j;
+        double w = K == 1 ? 0.0 : (x - R[j]) / (R[j + 1] - R[j]);
+        w = w < 0.0 ? 0.0 : (w > 1.0 ? 1.0 : w);
+        eta[i] = 0.0f;
+        v->eta[slot[j]][i] += (float)((1.0 - w) * e * exp(R[j]) / r_own);
+        if (w > 0.0) v->eta[slot[j + 1]][i] += (float)(w * e * exp(R[j + 1]) / r_own);
+      }
     out->count[t] = K;
     for (int j = 0; j < K; ++j) out->radius_m[t][j] = exp(R[j]);
   }
-#undef FOR_CONTENT
   return SL_OK;
 }

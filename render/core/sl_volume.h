@@ -64,6 +64,17 @@ static inline size_t sl_volume_index(const sl_volume *v, int i, int j, int k)
 /* The samples that may hold medium (content_lo .. content_hi where content_known, else the whole
  * grid) into lo, hi (inclusive); 0 when there are none. */
 int sl_volume_content_samples(const sl_volume *v, int lo[3], int hi[3]);
+/* The rows along x of the box lo .. hi (from sl_volume_content_samples), in the grid's order: how
+ * many, and the index of row r's first sample (each row holds hi[0] - lo[0] + 1). */
+static inline long sl_volume_box_rows(const int lo[3], const int hi[3])
+{
+  return (long)(hi[1] - lo[1] + 1) * (long)(hi[2] - lo[2] + 1);
+}
+static inline size_t sl_volume_box_row(const sl_volume *v, const int lo[3], const int hi[3], long r)
+{
+  const long ny = hi[1] - lo[1] + 1;
+  return sl_volume_index(v, lo[0], lo[1] + (int)(r % ny), lo[2] + (int)(r / ny));
+}
 /* Axis-aligned box covered by the cells: samples sit at cell centres. */
 void sl_volume_bounds(const sl_volume *v, double lo[3], double hi[3]);
 /* The boxes around the storm's condensate, one per threshold tau_min[b], from one pass over the

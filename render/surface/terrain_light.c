@@ -71,13 +71,12 @@ static int cloud_grids(const sl_terrain_light_params *p, float **beta, float **s
     const double keep = 1.0 - p->asymmetry[f];
     int lo[3], hi[3]; /* outside the content box every field is zero */
     const int any = sl_volume_content_samples(v, lo, hi);
-    for (int k = lo[2]; any && k <= hi[2]; ++k)
-      for (int j = lo[1]; j <= hi[1]; ++j)
-        for (size_t i = sl_volume_index(v, lo[0], j, k), end = i + (size_t)(hi[0] - lo[0]) + 1; i < end; ++i) {
-          const double b = v->eta[f][i] * sigma; /* Riley et al. 2004, eq. 2 */
-          (*beta)[i] += (float)b;
-          (*scaled)[i] += (float)(b * keep);
-        }
+    for (long r = 0; any && r < sl_volume_box_rows(lo, hi); ++r)
+      for (size_t i = sl_volume_box_row(v, lo, hi, r), end = i + (size_t)(hi[0] - lo[0]) + 1; i < end; ++i) {
+        const double b = v->eta[f][i] * sigma; /* Riley et al. 2004, eq. 2 */
+        (*beta)[i] += (float)b;
+        (*scaled)[i] += (float)(b * keep);
+      }
   }
   return SL_OK;
 }

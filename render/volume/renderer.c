@@ -126,15 +126,14 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   for (int j = 0; j < nf; ++j) sl__advise_huge_reads(scene->volume->eta[r->model.slot[j]], count * sizeof(float));
   int box_lo[3], box_hi[3];
   const int box_any = sl_volume_content_samples(scene->volume, box_lo, box_hi);
-  const long box_ny = box_hi[1] - box_lo[1] + 1, rows = box_any ? box_ny * (box_hi[2] - box_lo[2] + 1) : 0;
+  const long rows = box_any ? sl_volume_box_rows(box_lo, box_hi) : 0;
   size_t bad = count;
   int bad_field = 0;
   double beta_max = 0.0;
   int any = 0;
 #pragma omp parallel for schedule(static) reduction(max : beta_max) reduction(| : any)
   for (long row = 0; row < rows; ++row) {
-    const size_t first = sl_volume_index(scene->volume, box_lo[0], box_lo[1] + (int)(row % box_ny),
-                                         box_lo[2] + (int)(row / box_ny));
+    const size_t first = sl_volume_box_row(scene->volume, box_lo, box_hi, row);
     for (size_t i = first; i <= first + (size_t)(box_hi[0] - box_lo[0]); ++i) {
       double total = 0.0;
       for (int j = 0; j < nf; ++j) {
