@@ -146,7 +146,11 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
   for (size_t i = 0; !rc && !c->have_rho && c->p_level && i < n; ++i)
     a[i] = (float)c->p_level[(size_t)k_block + i / c->n2];
   if (!rc && c->have_rho) rc = cf_block(c, &c->rho, k_block, nk, a, err);
-  for (size_t i = 0; !rc && i < n; ++i) {
+  /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's); the
+   * first cell refused (the least index) is the one reported. */
+  size_t bad = n;
+#pragma omp parallel for reduction(min : bad) if (!rc)
+  for (size_t i = 0; i < n; ++i) {
     if (c->kb && c->s->k0 + k_block + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
       rho_dry[i] = 0.0f, frozen[i] = 0;
       if (rho_moist) rho_moist[i] = 0.0f;
@@ -154,33 +158,32 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
     }
     /* Small negative vapour is advection noise (clamped, as the hydrometeors are); beyond that,
      * or past 0.1 kg/kg (air holds at most a few hundredths), it is not a humidity at all. */
-    if (!(qv[i] >= -0.01 && qv[i] <= 0.1)) {
-      rc = sl_fail(err, SL_ERR_DATA, "%s: water vapour %g kg/kg at time %d is not physical (are its units right?)",
-                   c->f->path, qv[i], c->t);
-      break;
-    }
-    /* Specific humidity q_s is per kg of moist air: mixing ratio q_s / (1 - q_s). */
     const double q = fmax(qv[i], 0.0), r = c->qv_specific ? q / (1.0 - q) : q;
     double t = c->have_temp || c->have_theta ? temp[i] : INFINITY, rho;
-    if (!(t > 0.0)) {
-      rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive %s temperature %g K at time %d", c->f->path,
-                   c->have_temp ? "air" : "potential", t, c->t);
-      break;
+    if (!(qv[i] >= -0.01 && qv[i] <= 0.1) || !(t > 0.0) || (!c->have_rho && !(a[i] > 0.0f))) {
+      if (i < bad) bad = i;
+      continue;
     }
     if (c->have_rho) {
       rho = a[i] / (1.0 + r);
     } else {
       const double p = a[i];
-      if (!(p > 0.0)) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
-        break;
-      }
       if (!c->have_temp) t = sl_temperature_from_theta(t, p);
       rho = sl_dry_air_density(p, t, r);
     }
     frozen[i] = t < SL_FREEZING_K;
     rho_dry[i] = (float)rho;
     if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + r));
+  }
+  if (!rc && bad < n) {
+    if (!(qv[bad] >= -0.01 && qv[bad] <= 0.1))
+      rc = sl_fail(err, SL_ERR_DATA, "%s: water vapour %g kg/kg at time %d is not physical (are its units right?)",
+                   c->f->path, qv[bad], c->t);
+    else if ((c->have_temp || c->have_theta) && !(temp[bad] > 0.0f))
+      rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive %s temperature %g K at time %d", c->f->path,
+                   c->have_temp ? "air" : "potential", (double)temp[bad], c->t);
+    else
+      rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
   }
   free(qv);
   free(a);

@@ -205,12 +205,20 @@ static int read_hyperslab(const sl_nc *f, const sl_nc_var *v, int t, int k0, int
   const size_t n = levels * (size_t)s->nx * s->ny;
   /* Fill values compare in the precision the values were read in. */
   const double fill = out_d ? v->fill : (double)(float)v->fill, missing = out_d ? v->missing : (double)(float)v->missing;
-  for (size_t i = 0; i < n; ++i) {
-    double x = out_d ? out_d[i] : (double)out_f[i];
-    if (x == fill || x == missing) x = NAN;
-    x = x * v->scale + v->offset;
-    if (out_d) out_d[i] = x;
-    else out_f[i] = (float)x;
+  /* Value by value, so shared among the threads (netCDF's read above is this thread's alone). */
+  const double scale = v->scale, offset = v->offset;
+  if (out_d) {
+#pragma omp parallel for simd
+    for (size_t i = 0; i < n; ++i) {
+      const double x = out_d[i];
+      out_d[i] = (x == fill || x == missing ? NAN : x) * scale + offset;
+    }
+  } else {
+#pragma omp parallel for simd
+    for (size_t i = 0; i < n; ++i) {
+      const double x = (double)out_f[i];
+      out_f[i] = (float)((x == fill || x == missing ? NAN : x) * scale + offset);
+    }
   }
   return SL_OK;
 }
@@ -224,11 +232,13 @@ int sl_nc_read_slab(const sl_nc *f, const sl_nc_var *v, int t, int k, const sl_s
 int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,
                      sl_error *err)
 {
-  int rc = read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
+  const int rc = read_hyperslab(f, v, t, k0, nk, s, NULL, out, err);
+  if (rc) return rc;
   const size_t n = (size_t)(v->ndims - v->has_time == 3 ? nk : 1) * s->nx * s->ny;
-  for (size_t i = 0; !rc && i < n; ++i)
-    if (!isfinite(out[i])) rc = sl_nc_fail_missing(f, v->name, t, err);
-  return rc;
+  int bad = 0;
+#pragma omp parallel for simd reduction(| : bad)
+  for (size_t i = 0; i < n; ++i) bad |= !isfinite(out[i]);
+  return bad ? sl_nc_fail_missing(f, v->name, t, err) : SL_OK;
 }
 
 int sl_nc_read_block_raw(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, const sl_subset *s, float *out,

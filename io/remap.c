@@ -66,84 +66,134 @@ static void species_stats_start(sl_field_stats *st)
   st->r_eff_min = INFINITY, st->r_eff_max = 0.0;
 }
 
-/* One block of species sp (index i) read, checked and deposited into the frame's fields: mixing
- * ratios below zero clamped and counted, non-finite or unphysical values refused naming the level;
- * its stats accumulated into frame->species_stats[i], its sum of mixing ratios into *sum. */
+/* Whether cell i3's mixing ratio v (or its number qn) is refused: not finite, or beyond what
+ * advection noise and physics allow (remap_species_block says which). */
+static inline int cell_refused(double v, int number_var, double qn)
+{
+  return !isfinite(v) || v < -0.01 || v > 0.1 || (number_var && !isfinite(qn));
+}
+
+/* One block of species sp, read, as its checks, stats and deposits: per column, its levels in
+ * order, so every output sample receives its adds in the serial order and the fields do not depend
+ * on the threads. Columns are independent (each writes only its own output column), so rows of
+ * them are shared among the threads, dynamically: a thread that another process keeps off its
+ * core leaves its rows to the other. Ranges, counts, the content box and which types were written
+ * are reductions of exact comparisons and integers; the sum of mixing ratios is taken per row of a
+ * level (row_sum) and those in the cells' order, so it depends neither on the threads nor on the
+ * blocks. Returns the least refused cell, or the block's cell count where none is. */
+static size_t deposit_species_block(const remap_block *x, const sl_species *sp, sl_storm_frame *frame,
+                                    sl_field_stats *st, double *row_sum)
+{
+  const size_t n2 = x->n2, n3 = n2 * (size_t)x->nk;
+  const int nk = x->nk, nzo = x->nzo, nx = frame->volume.nx, ny = (int)(n2 / (size_t)nx);
+  const double ground = x->ground, dz = x->dz;
+  const float *rho_air = sp->per_moist_air ? x->rho_moist : x->rho_dry;
+  const int number_var = sp->number_variable[0] != 0;
+  double q_min = st->q_min, q_max = st->q_max, r_min = st->r_eff_min, r_max = st->r_eff_max;
+  long negative = 0, number_negative = 0, number_missing = 0;
+  int lo0 = x->box_lo[0], lo1 = x->box_lo[1], lo2 = x->box_lo[2];
+  int hi0 = x->box_hi[0], hi1 = x->box_hi[1], hi2 = x->box_hi[2];
+  int held_warm = 0, held_cold = 0;
+  size_t refused = n3;
+  float *const warm_eta = frame->volume.eta[sp->warm], *const cold_eta = frame->volume.eta[sp->cold];
+  float *const warm_lnr = x->lnr_eta[sp->warm], *const cold_lnr = x->lnr_eta[sp->cold];
+#pragma omp parallel for schedule(dynamic, 4) reduction(min : q_min, r_min, lo0, lo1, lo2, refused) \
+    reduction(max : q_max, r_max, hi0, hi1, hi2, held_warm, held_cold) \
+    reduction(+ : negative, number_negative, number_missing)
+  for (int j = 0; j < ny; ++j)
+    for (int l = 0; l < nk; ++l) {
+      double sum = 0.0;
+      for (int i = 0; i < nx; ++i) {
+        const size_t c = (size_t)j * nx + i, i3 = (size_t)l * n2 + c;
+        double v = x->q[i3];
+        if (v < q_min) q_min = v;
+        if (v > q_max) q_max = v;
+        const double qn = number_var ? x->qn[i3] : 0.0;
+        if (cell_refused(v, number_var, qn)) {
+          if (i3 < refused) refused = i3;
+          continue;
+        }
+        /* Advection leaves small negatives (WRF's are ~1e-6 kg/kg): clamped and counted. */
+        if (v < 0.0) negative++, v = 0.0;
+        double number = -1.0; /* none */
+        if (number_var) {
+          number = qn;
+          if (number < 0.0) number_negative++, number = 0.0;
+          if (number == 0.0 && v > 0.0) number_missing++;
+        }
+        sum += v;
+        if (v == 0.0) continue;
+        const int cold = x->frozen[i3] != 0;
+        const int target = cold ? sp->cold : sp->warm;
+        double r_eff;
+        const double eta = sl_species_eta(sp, target, rho_air[i3], v, x->rho_dry[i3], number, &r_eff);
+        if (r_eff > 0.0 && v > 1e-6) {
+          if (r_eff < r_min) r_min = r_eff;
+          if (r_eff > r_max) r_max = r_eff;
+        }
+        /* A column that sinks by the earth's curvature deposits lower in the grid. */
+        const double sink = x->drop ? x->drop[c] : 0.0;
+        const double a = x->z[i3] - sink, b = x->z[i3 + n2] - sink;
+        int k_lo = nzo, k_hi = -1;
+        if (deposit_layer((cold ? cold_eta : warm_eta) + c, n2, nzo, ground, dz, a, b, eta, &k_lo, &k_hi)) {
+          if (cold) held_cold = 1;
+          else held_warm = 1;
+        }
+        float *lnr = cold ? cold_lnr : warm_lnr;
+        if (lnr)
+          deposit_layer(lnr + c, n2, nzo, ground, dz, a, b,
+                        eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m),
+                        &k_lo, &k_hi);
+        if (k_lo <= k_hi) {
+          if (i < lo0) lo0 = i;
+          if (i > hi0) hi0 = i;
+          if (j < lo1) lo1 = j;
+          if (j > hi1) hi1 = j;
+          if (k_lo < lo2) lo2 = k_lo;
+          if (k_hi > hi2) hi2 = k_hi;
+        }
+      }
+      row_sum[(size_t)l * ny + j] = sum;
+    }
+  st->q_min = q_min, st->q_max = q_max, st->r_eff_min = r_min, st->r_eff_max = r_max;
+  st->negative_count += negative, st->number_negative += number_negative, st->number_missing += number_missing;
+  x->box_lo[0] = lo0, x->box_lo[1] = lo1, x->box_lo[2] = lo2;
+  x->box_hi[0] = hi0, x->box_hi[1] = hi1, x->box_hi[2] = hi2;
+  if (held_warm) x->held[sp->warm] = 1;
+  if (held_cold) x->held[sp->cold] = 1;
+  return refused;
+}
+
+/* One block of species sp (index i) read, checked and deposited into the frame's fields
+ * (deposit_species_block): mixing ratios below zero clamped and counted, non-finite or unphysical
+ * values refused naming the level of the first; its stats accumulated into frame->species_stats[i],
+ * its sum of mixing ratios into *sum. row_sum: scratch of a double per row of the block. */
 static int remap_species_block(const remap_block *x, const sl_level_reader *r, const sl_species *sp, int i,
-                               sl_storm_frame *frame, double *sum, sl_error *err)
+                               sl_storm_frame *frame, double *sum, double *row_sum, sl_error *err)
 {
   const char *path = x->path;
-  const size_t n2 = x->n2, n3 = n2 * (size_t)x->nk;
-  const double *z = x->z, *drop = x->drop;
-  const int nzo = x->nzo;
-  const double ground = x->ground, dz = x->dz;
-  float *q = x->q, *qn = x->qn;
-  float **lnr_eta = x->lnr_eta;
+  const size_t n2 = x->n2;
   int rc;
-  sl_field_stats *st = &frame->species_stats[i];
-  if ((rc = r->field(r->ctx, sp->variable, x->k0, x->nk, q, err))) return rc;
-  if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, x->k0, x->nk, qn, err))) return rc;
-  const float *rho_air = sp->per_moist_air ? x->rho_moist : x->rho_dry;
-  for (size_t i3 = 0; i3 < n3; ++i3) {
-    double v = q[i3];
-    if (v < st->q_min) st->q_min = v;
-    if (v > st->q_max) st->q_max = v;
-    if (!isfinite(v))
-      return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
-                     "declare as _FillValue or missing_value)", path, sp->variable, x->level + (int)(i3 / n2));
-    /* Advection leaves small negatives (WRF's are ~1e-6 kg/kg): clamped and counted. Below
-     * -0.01 kg/kg, the bound the CF vapour has, it is not noise but a wrong field or wrong units. */
-    if (v < -0.01)
-      return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio "
-                     "(beyond the clamping of advection noise, -0.01)", path, sp->variable, v,
-                     x->level + (int)(i3 / n2));
-    if (v < 0.0) {
-      st->negative_count++;
-      v = 0.0;
-    }
-    if (v > 0.1)
-      return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
-                     sp->variable, v, x->level + (int)(i3 / n2));
-    double number = -1.0; /* none */
-    if (sp->number_variable[0]) {
-      number = qn[i3];
-      if (!isfinite(number))
-        return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable,
-                       x->level + (int)(i3 / n2));
-      if (number < 0.0) st->number_negative++, number = 0.0;
-      if (number == 0.0 && v > 0.0) st->number_missing++;
-    }
-    *sum += v;
-    if (v == 0.0) continue;
-    const size_t c = i3 % n2;
-    const int target = x->frozen[i3] ? sp->cold : sp->warm;
-    double r_eff;
-    const double eta = sl_species_eta(sp, target, rho_air[i3], v, x->rho_dry[i3], number, &r_eff);
-    if (r_eff > 0.0 && v > 1e-6) {
-      if (r_eff < st->r_eff_min) st->r_eff_min = r_eff;
-      if (r_eff > st->r_eff_max) st->r_eff_max = r_eff;
-    }
-    /* A column that sinks by the earth's curvature deposits lower in the grid. */
-    const double sink = drop ? drop[c] : 0.0;
-    int *lo = x->box_lo, *hi = x->box_hi, k_lo = nzo, k_hi = -1;
-    if (deposit_layer(frame->volume.eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink, eta,
-                      &k_lo, &k_hi))
-      x->held[target] = 1;
-    if (lnr_eta[target])
-      deposit_layer(lnr_eta[target] + c, n2, nzo, ground, dz, z[i3] - sink, z[i3 + n2] - sink,
-                    eta * log(r_eff > 0.0 ? r_eff : sl_particle_properties((sl_particle)target)->effective_radius_m),
-                    &k_lo, &k_hi);
-    if (k_lo <= k_hi) {
-      const int at[2] = {(int)(c % (size_t)frame->volume.nx), (int)(c / (size_t)frame->volume.nx)};
-      for (int a = 0; a < 2; ++a) {
-        if (at[a] < lo[a]) lo[a] = at[a];
-        if (at[a] > hi[a]) hi[a] = at[a];
-      }
-      if (k_lo < lo[2]) lo[2] = k_lo;
-      if (k_hi > hi[2]) hi[2] = k_hi;
-    }
+  if ((rc = r->field(r->ctx, sp->variable, x->k0, x->nk, x->q, err))) return rc;
+  if (sp->number_variable[0] && (rc = r->field(r->ctx, sp->number_variable, x->k0, x->nk, x->qn, err))) return rc;
+  const size_t bad = deposit_species_block(x, sp, frame, &frame->species_stats[i], row_sum);
+  if (bad == n2 * (size_t)x->nk) {
+    for (size_t k = 0; k < (size_t)x->nk * (n2 / (size_t)frame->volume.nx); ++k) *sum += row_sum[k];
+    return SL_OK;
   }
-  return SL_OK;
+  const double v = x->q[bad];
+  const int level = x->level + (int)(bad / n2);
+  if (!isfinite(v))
+    return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d (a missing value the file does not "
+                   "declare as _FillValue or missing_value)", path, sp->variable, level);
+  /* Below -0.01 kg/kg, the bound the CF vapour has, it is not noise but a wrong field or wrong units. */
+  if (v < -0.01)
+    return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio "
+                   "(beyond the clamping of advection noise, -0.01)", path, sp->variable, v, level);
+  if (v > 0.1)
+    return sl_fail(err, SL_ERR_DATA, "%s: %s = %g kg/kg at model level %d is not a physical mixing ratio", path,
+                   sp->variable, v, level);
+  return sl_fail(err, SL_ERR_DATA, "%s: %s is not a number at model level %d", path, sp->number_variable, level);
 }
 
 /* Ends species sp's stats (index i) after its last block, over the subset's n3 cells. */
@@ -236,9 +286,10 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
   float *q = sl__huge_alloc(nbc * sizeof(float)), *qn = number ? sl__huge_alloc(nbc * sizeof(float)) : NULL;
   unsigned char *frozen = sl__huge_alloc(nbc);
   double *sums = calloc((size_t)nspecies + 1, sizeof(double));
+  double *row_sum = malloc(((size_t)nb * ny + 1) * sizeof(double));
   float *lnr_eta[SL_PARTICLE_COUNT] = {0};
   int rc = SL_OK;
-  if (!z || !rho_dry || (moist && !rho_moist) || !q || (number && !qn) || !frozen || !sums) {
+  if (!z || !rho_dry || (moist && !rho_moist) || !q || (number && !qn) || !frozen || !sums || !row_sum) {
     rc = sl_fail(err, SL_ERR_NOMEM, "%s: out of memory for %d x %d x %d cells", path, nx, ny, nb);
     goto done;
   }
@@ -274,17 +325,20 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     if (k0 > 0) memmove(z, z + (size_t)last * n2, n2 * sizeof(double));
     if ((rc = k0 == 0 ? r->interfaces(r->ctx, 0, nk + 1, z, err) : r->interfaces(r->ctx, k0 + 1, nk, z + n2, err)))
       goto done;
+    size_t falling = cells;
+#pragma omp parallel for simd reduction(min : falling)
     for (size_t i = 0; i < cells; ++i)
-      if (!(z[i + n2] > z[i])) {
-        rc = sl_fail(err, SL_ERR_DATA, "%s: heights do not increase upward at model level %d", path,
-                     s->k0 + k0 + (int)(i / n2));
-        goto done;
-      }
+      if (!(z[i + n2] > z[i]) && i < falling) falling = i;
+    if (falling < cells) {
+      rc = sl_fail(err, SL_ERR_DATA, "%s: heights do not increase upward at model level %d", path,
+                   s->k0 + k0 + (int)(falling / n2));
+      goto done;
+    }
     if ((rc = r->air(r->ctx, k0, nk, rho_dry, rho_moist, frozen, err))) goto done;
     const remap_block x = {path, s->k0 + k0, k0, nk, n2, z, drop, rho_dry, rho_moist, frozen, nzo, ground, dz,
                            lnr_eta, q, qn, box_lo, box_hi, held};
     for (int i = 0; i < nspecies; ++i)
-      if ((rc = remap_species_block(&x, r, &species[i], i, frame, &sums[i], err))) goto done;
+      if ((rc = remap_species_block(&x, r, &species[i], i, frame, &sums[i], row_sum, err))) goto done;
   }
   for (int i = 0; i < nspecies; ++i) species_stats_finish(&species[i], i, n3, sums[i], frame);
   frame->volume.content_known = 1;
@@ -301,5 +355,6 @@ done:
   free(qn);
   free(frozen);
   free(sums);
+  free(row_sum);
   return rc;
 }

@@ -234,7 +234,8 @@ static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
   if (!rc) rc = sl_nc_read_block(w->f, &w->ph, w->t, w->s->k0 + k0, nk, w->s, ph, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->phb, w->t, w->s->k0 + k0, nk, w->s, phb, err);
   /* Geopotential to height. */
-  for (size_t i = 0; !rc && i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
+#pragma omp parallel for simd if (!rc)
+  for (size_t i = 0; i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
   free(ph);
   free(phb);
   return rc;
@@ -251,13 +252,20 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
   int rc = two_buffers(w->f->path, n, &pb, &theta, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->p, w->t, k0, nk, w->s, p, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->pb, w->t, k0, nk, w->s, pb, err);
-  for (size_t i = 0; !rc && i < n; ++i) {
-    pb[i] += p[i];
-    if (!(pb[i] > 0.0f)) rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", w->f->path, w->t);
+  if (!rc) {
+    int bad = 0;
+#pragma omp parallel for simd reduction(| : bad)
+    for (size_t i = 0; i < n; ++i) {
+      pb[i] += p[i];
+      bad |= !(pb[i] > 0.0f);
+    }
+    if (bad) rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure P+PB at time %d", w->f->path, w->t);
   }
   if (!rc) rc = sl_nc_read_block(w->f, &w->theta, w->t, k0, nk, w->s, theta, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->qv, w->t, k0, nk, w->s, qv, err);
-  for (size_t i = 0; !rc && i < n; ++i) {
+  /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's). */
+#pragma omp parallel for if (!rc)
+  for (size_t i = 0; i < n; ++i) {
     const double pressure = pb[i], qvap = qv[i] > 0.0f ? qv[i] : 0.0;
     const double temperature = sl_temperature_from_wrf(theta[i], pressure);
     frozen[i] = temperature < SL_FREEZING_K;

@@ -9,13 +9,19 @@
  * BOMEX LES time (shallow cumulus). Level subsets (--levels) start the blocks off the file's
  * first level; column subsets (--stride, --region) and the earth's curvature come along. The frame's content box, which the passes over the fields keep to, is checked
  * against a scan of the fields. The CF pressure-level layouts, reversed and masked below the ground, are checked in
- * test_reader_pressure.c. */
+ * test_reader_pressure.c. The deposits and the air are shared among threads, columns by columns:
+ * one thread and three (more than the machine's cores, so rows change hands) give the same frame,
+ * and where several cells are refused the message names the first in the file's order. */
 #include <math.h>
+#include <netcdf.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "sl_storm.h"
+#include "sl_synth.h"
 #include "sl_testing.h"
 
 /* Field by field: a struct's padding need not compare. */
@@ -125,6 +131,22 @@ static void check_blocks_with(const char *path, sl_load_options base)
       fprintf(stderr, "%s\n", err.message);
     }
   }
+  /* One thread and three: the same frame. */
+  const int threads[] = {1, 3};
+  const int default_threads = omp_get_max_threads();
+  for (size_t t = 0; t < sizeof threads / sizeof threads[0]; ++t) {
+    omp_set_num_threads(threads[t]);
+    sl_load_options o = whole;
+    o.block_levels = 2;
+    sl_storm_frame f;
+    char what[4200];
+    snprintf(what, sizeof what, "%s levels %d:%d on %d threads", path, level_first, level_count, threads[t]);
+    if (CHECK_MSG(sl_storm_load(path, &o, &f, &err) == SL_OK, what)) {
+      CHECK_MSG(same_frame(&one, &f, what), what);
+      sl_storm_frame_free(&f);
+    }
+  }
+  omp_set_num_threads(default_threads);
   /* The default blocks (64 MB of work arrays, rounded to the chunks) hold these small files
    * whole; the same frame again. */
   sl_load_options d = whole;
@@ -143,8 +165,43 @@ static void check_blocks(const char *path, int time_index, int level_first, int 
                                             .level_count = level_count});
 }
 
+/* Two unphysical cloud-water values in a small synthetic storm, the later one (level 7) in the
+ * first row of columns and the earlier (level 3) in the last: whatever the blocks and the threads,
+ * the message names level 3, the first in the file's order. */
+static void check_first_refused(void)
+{
+  char path[] = "/tmp/sl_test_reader_blocks_XXXXXX.nc";
+  close(mkstemps(path, 3));
+  sl_error err = {0};
+  sl_synth_options o;
+  sl_synth_defaults(SL_SYNTH_STRATOCUMULUS, &o);
+  o.nx = 12, o.ny = 10, o.nz = 16, o.ntimes = 1;
+  if (!CHECK(sl_synth_write(path, &o, &err) == SL_OK)) return;
+  int nc, id;
+  const size_t late[4] = {0, 7, 0, 0}, early[4] = {0, 3, 9, 11};
+  const float late_value = 0.7f, early_value = 0.5f;
+  CHECK(nc_open(path, NC_WRITE, &nc) == NC_NOERR && nc_inq_varid(nc, "QCLOUD", &id) == NC_NOERR &&
+        nc_put_var1_float(nc, id, late, &late_value) == NC_NOERR &&
+        nc_put_var1_float(nc, id, early, &early_value) == NC_NOERR && nc_close(nc) == NC_NOERR);
+  const int default_threads = omp_get_max_threads();
+  for (int threads = 1; threads <= 3; threads += 2)
+    for (int blocks = 1; blocks <= 1000; blocks *= 10) {
+      omp_set_num_threads(threads);
+      sl_load_options lo = {.block_levels = blocks};
+      sl_storm_frame f;
+      const int rc = sl_storm_load(path, &lo, &f, &err);
+      char what[640];
+      snprintf(what, sizeof what, "blocks of %d, %d threads: %s", blocks, threads, rc ? err.message : "loaded");
+      CHECK_MSG(rc == SL_ERR_DATA && strstr(err.message, "QCLOUD = 0.5 kg/kg at model level 3 "), what);
+      if (rc == SL_OK) sl_storm_frame_free(&f);
+    }
+  omp_set_num_threads(default_threads);
+  unlink(path);
+}
+
 int main(void)
 {
+  check_first_refused();
   const char *shared = getenv("SL_SHARED_DIR");
   char path[4096];
   snprintf(path, sizeof path, "%s/data/wrf/wrf_katrina2005_d02_mercator_wsm3_4t.nc", shared ? shared : "../shared");
