@@ -19,25 +19,43 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
   r->brick_beta_max = calloc(bricks, sizeof(float));
   if (!r->empty_radius || !r->brick_beta_max) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
   memset(r->empty_radius, 1, bricks);
-  /* Outside the volume's content box every field, and so the total, is zero. */
-  int lo[3], hi[3];
-  const int any = sl_volume_content_samples(v, lo, hi);
-  for (int k = lo[2]; any && k <= hi[2]; ++k)
-    for (int j = lo[1]; j <= hi[1]; ++j)
-      for (int i = lo[0]; i <= hi[0]; ++i) {
-        const float beta = r->beta[sl_volume_index(v, i, j, k)];
-        if (!(beta > 0.0f)) continue;
-        /* A sample feeds the trilinear cells whose lower corner is itself or one below it. */
-        for (int dk = -1; dk <= 0; ++dk)
-          for (int dj = -1; dj <= 0; ++dj)
-            for (int di = -1; di <= 0; ++di) {
-              const int cell[3] = {i + di, j + dj, k + dk};
-              if (cell[0] < 0 || cell[1] < 0 || cell[2] < 0) continue;
-              const size_t b = sl__brick_index(r, cell);
-              r->empty_radius[b] = 0;
-              if (beta > r->brick_beta_max[b]) r->brick_beta_max[b] = beta;
-            }
+  /* Outside the volume's content box every field, and so the total, is zero. Brick by brick, so
+   * that the threads share the bricks and none writes another's: a brick's cells have their lower
+   * corners at samples 8b .. 8b + 7 along each axis and read samples 8b .. 8b + 8. */
+  int lo[3], hi[3], b_lo[3], b_hi[3];
+  if (!sl_volume_content_samples(v, lo, hi)) {
+    sl__brick_empty_radius(r->bricks, r->empty_radius);
+    return SL_OK;
+  }
+  for (int a = 0; a < 3; ++a) {
+    b_lo[a] = lo[a] > 0 ? (lo[a] - 1) / 8 : 0;
+    b_hi[a] = hi[a] / 8 < r->bricks[a] - 1 ? hi[a] / 8 : r->bricks[a] - 1;
+  }
+  const int rows_y = b_hi[1] - b_lo[1] + 1, rows = (b_hi[2] - b_lo[2] + 1) * rows_y;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int row = 0; row < rows; ++row) {
+    const int bz = b_lo[2] + row / rows_y, by = b_lo[1] + row % rows_y;
+    for (int bx = b_lo[0]; bx <= b_hi[0]; ++bx) {
+      const int b3[3] = {bx, by, bz};
+      int s0[3], s1[3];
+      for (int a = 0; a < 3; ++a) {
+        s0[a] = 8 * b3[a] > lo[a] ? 8 * b3[a] : lo[a];
+        s1[a] = 8 * b3[a] + 8 < hi[a] ? 8 * b3[a] + 8 : hi[a];
       }
+      float beta_max = 0.0f;
+      for (int k = s0[2]; k <= s1[2]; ++k)
+        for (int j = s0[1]; j <= s1[1]; ++j)
+          for (int i = s0[0]; i <= s1[0]; ++i) {
+            const float beta = r->beta[sl_volume_index(v, i, j, k)];
+            if (beta > beta_max) beta_max = beta;
+          }
+      if (beta_max > 0.0f) {
+        const size_t b = ((size_t)bz * r->bricks[1] + by) * r->bricks[0] + bx;
+        r->empty_radius[b] = 0;
+        r->brick_beta_max[b] = beta_max;
+      }
+    }
+  }
   sl__brick_empty_radius(r->bricks, r->empty_radius);
   return SL_OK;
 }
@@ -153,18 +171,26 @@ void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3
 void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3])
 {
   const sl_volume *v = &r->shape;
-  int mn[3] = {v->nx, v->ny, v->nz}, mx[3] = {-1, -1, -1}, box_lo[3], box_hi[3];
+  int box_lo[3], box_hi[3];
   const int any = sl_volume_content_samples(v, box_lo, box_hi); /* zero outside */
-  for (int k = box_lo[2]; any && k <= box_hi[2]; ++k)
-    for (int j = box_lo[1]; j <= box_hi[1]; ++j)
-      for (int i = box_lo[0]; i <= box_hi[0]; ++i) {
-        if (!(r->beta[sl_volume_index(v, i, j, k)] > 0.0f)) continue;
-        const int idx[3] = {i, j, k};
-        for (int a = 0; a < 3; ++a) {
-          if (idx[a] < mn[a]) mn[a] = idx[a];
-          if (idx[a] > mx[a]) mx[a] = idx[a];
-        }
-      }
+  int mn0 = v->nx, mn1 = v->ny, mn2 = v->nz, mx0 = -1, mx1 = -1, mx2 = -1;
+  const long rows = any ? sl_volume_box_rows(box_lo, box_hi) : 0;
+  const int ny_box = box_hi[1] - box_lo[1] + 1;
+#pragma omp parallel for schedule(static) reduction(min : mn0, mn1, mn2) reduction(max : mx0, mx1, mx2)
+  for (long row = 0; row < rows; ++row) {
+    const size_t first = sl_volume_box_row(v, box_lo, box_hi, row);
+    const int j = box_lo[1] + (int)(row % ny_box), k = box_lo[2] + (int)(row / ny_box);
+    for (int i = box_lo[0]; i <= box_hi[0]; ++i) {
+      if (!(r->beta[first + (size_t)(i - box_lo[0])] > 0.0f)) continue;
+      if (i < mn0) mn0 = i;
+      if (i > mx0) mx0 = i;
+      if (j < mn1) mn1 = j;
+      if (j > mx1) mx1 = j;
+      if (k < mn2) mn2 = k;
+      if (k > mx2) mx2 = k;
+    }
+  }
+  const int mn[3] = {mn0, mn1, mn2}, mx[3] = {mx0, mx1, mx2};
   if (mx[0] < 0) {
     memcpy(lo, r->lo, sizeof r->lo);
     memcpy(hi, r->hi, sizeof r->hi);
