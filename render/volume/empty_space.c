@@ -168,36 +168,23 @@ void sl__occupied_span(const sl_renderer *r, const double o[3], const double d[3
   *last = from_end < INFINITY ? -from_end : t1;
 }
 
-void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3])
+void sl__content_bounds(const sl_renderer *r, const int medium_lo[3], const int medium_hi[3], double lo[3],
+                        double hi[3])
 {
   const sl_volume *v = &r->shape;
-  int box_lo[3], box_hi[3];
-  const int any = sl_volume_content_samples(v, box_lo, box_hi); /* zero outside */
-  int mn0 = v->nx, mn1 = v->ny, mn2 = v->nz, mx0 = -1, mx1 = -1, mx2 = -1;
-  const long rows = any ? sl_volume_box_rows(box_lo, box_hi) : 0;
-  const int ny_box = box_hi[1] - box_lo[1] + 1;
-#pragma omp parallel for schedule(static) reduction(min : mn0, mn1, mn2) reduction(max : mx0, mx1, mx2)
-  for (long row = 0; row < rows; ++row) {
-    const size_t first = sl_volume_box_row(v, box_lo, box_hi, row);
-    const int j = box_lo[1] + (int)(row % ny_box), k = box_lo[2] + (int)(row / ny_box);
-    for (int i = box_lo[0]; i <= box_hi[0]; ++i) {
-      if (!(r->beta[first + (size_t)(i - box_lo[0])] > 0.0f)) continue;
-      if (i < mn0) mn0 = i;
-      if (i > mx0) mx0 = i;
-      if (j < mn1) mn1 = j;
-      if (j > mx1) mx1 = j;
-      if (k < mn2) mn2 = k;
-      if (k > mx2) mx2 = k;
-    }
-  }
-  const int mn[3] = {mn0, mn1, mn2}, mx[3] = {mx0, mx1, mx2};
-  if (mx[0] < 0) {
+  if (medium_hi[0] < 0) {
     memcpy(lo, r->lo, sizeof r->lo);
     memcpy(hi, r->hi, sizeof r->hi);
     return;
   }
   for (int a = 0; a < 3; ++a) {
-    lo[a] = fmax(r->lo[a], v->origin[a] + (mn[a] - 1) * v->spacing[a]);
-    hi[a] = fmin(r->hi[a], v->origin[a] + (mx[a] + 1) * v->spacing[a]);
+    lo[a] = fmax(r->lo[a], v->origin[a] + (medium_lo[a] - 1) * v->spacing[a]);
+    hi[a] = fmin(r->hi[a], v->origin[a] + (medium_hi[a] + 1) * v->spacing[a]);
   }
+}
+
+void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3])
+{
+  memcpy(lo, r->clo, sizeof r->clo);
+  memcpy(hi, r->chi, sizeof r->chi);
 }

@@ -8,6 +8,7 @@
 #include "renderer_internal.h"
 #include "sl_cie.h"
 
+#include <limits.h>
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
@@ -131,9 +132,14 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   int bad_field = 0;
   double beta_max = 0.0;
   int any = 0;
-#pragma omp parallel for schedule(static) reduction(max : beta_max) reduction(| : any)
+  /* The samples that hold medium: their box gives the content bounds (sl_renderer_content_bounds). */
+  int mn0 = INT_MAX, mn1 = INT_MAX, mn2 = INT_MAX, mx0 = -1, mx1 = -1, mx2 = -1;
+  const int box_ny = box_hi[1] - box_lo[1] + 1;
+#pragma omp parallel for schedule(static) reduction(max : beta_max, mx0, mx1, mx2) reduction(| : any) \
+    reduction(min : mn0, mn1, mn2)
   for (long row = 0; row < rows; ++row) {
     const size_t first = sl_volume_box_row(scene->volume, box_lo, box_hi, row);
+    const int j = box_lo[1] + (int)(row % box_ny), k = box_lo[2] + (int)(row / box_ny);
     for (size_t i = first; i <= first + (size_t)(box_hi[0] - box_lo[0]); ++i) {
       double total = 0.0;
       for (int j = 0; j < nf; ++j) {
@@ -149,6 +155,15 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
       if (total != 0.0) r->beta[i] = (float)total;
       if (total > beta_max) beta_max = total;
       any |= total > 0.0;
+      if ((float)total > 0.0f) {
+        const int x = box_lo[0] + (int)(i - first);
+        if (x < mn0) mn0 = x;
+        if (x > mx0) mx0 = x;
+        if (j < mn1) mn1 = j;
+        if (j > mx1) mx1 = j;
+        if (k < mn2) mn2 = k;
+        if (k > mx2) mx2 = k;
+      }
     }
   }
   for (int j = 0; j < nf; ++j) sl__advise_reads_done(scene->volume->eta[r->model.slot[j]], count * sizeof(float));
@@ -163,7 +178,8 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     sl_renderer_destroy(r);
     return NULL;
   }
-  sl_renderer_content_bounds(r, r->clo, r->chi);
+  const int medium_lo[3] = {mn0, mn1, mn2}, medium_hi[3] = {mx0, mx1, mx2};
+  sl__content_bounds(r, medium_lo, medium_hi, r->clo, r->chi);
   for (int a = 0; a < 3; ++a) r->content_center[a] = 0.5 * (r->clo[a] + r->chi[a]);
   return r;
 }

@@ -147,6 +147,12 @@ static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { re
  * (r->bricks, r->empty_radius; empty_space.c). */
 int sl__bricks_build(sl_renderer *r, sl_error *err);
 
+/* The content bounds (r->clo, r->chi) from the box of samples that hold medium, medium_lo ..
+ * medium_hi (medium_hi[0] < 0: none, the whole box): one cell of margin around it, within the grid's
+ * bounds. */
+void sl__content_bounds(const sl_renderer *r, const int medium_lo[3], const int medium_hi[3], double lo[3],
+                        double hi[3]);
+
 /* Chebyshev distance transform of a brick lattice, in place: on entry radius[b] is 0 for an
  * occupied brick and non-zero for an empty one; on return each empty brick holds its distance to
  * the nearest occupied brick, max over the axes of |b - o|, capped at 255 (255 also where no brick

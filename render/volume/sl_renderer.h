@@ -156,7 +156,8 @@ int sl_renderer_background(const sl_renderer *r, const sl_camera *camera, sl_ima
  * cloud's own shadow, lit by the sky). out has width * height values. */
 int sl_renderer_surface_sunlight(const sl_renderer *r, const sl_camera *camera, float *out, sl_error *err);
 
-/* The box around the samples with non-zero extinction (the whole box when all are empty). */
+/* The box around the samples with non-zero extinction (the whole box when all are empty), with a
+ * cell of margin; found as the renderer was built. */
 void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]);
 /* The camera, its rays and the direction from compass angles: sl_camera.h (render/core). */
 
