@@ -31,6 +31,9 @@ typedef struct cf_levels {
   const sl_species *species; /* the load's species: which variables are numbers */
   int nspecies;
   sl_var_cache cache;
+  float *scratch[3]; /* cf_air's arrays, kept from block to block (freed by the load): fresh pages
+                        every block cost a fault each */
+  size_t scratch_n;
 } cf_levels;
 
 
@@ -135,9 +138,15 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
 {
   cf_levels *c = ctx;
   const size_t n = (size_t)nk * c->n2;
-  float *qv = calloc(n, sizeof(float)), *a = sl__huge_alloc(n * sizeof(float)), *temp = sl__huge_alloc(n * sizeof(float));
-  int rc = qv && a && temp ? SL_OK : sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
-  if (!rc && c->have_qv) rc = cf_block(c, &c->qv, k_block, nk, qv, err);
+  if (n > c->scratch_n) {
+    for (int i = 0; i < 3; ++i) free(c->scratch[i]), c->scratch[i] = sl__huge_alloc(n * sizeof(float));
+    c->scratch_n = c->scratch[0] && c->scratch[1] && c->scratch[2] ? n : 0;
+    if (!c->scratch_n) return sl_fail(err, SL_ERR_NOMEM, "%s: out of memory", c->f->path);
+  }
+  float *qv = c->scratch[0], *a = c->scratch[1], *temp = c->scratch[2];
+  int rc = SL_OK;
+  if (c->have_qv) rc = cf_block(c, &c->qv, k_block, nk, qv, err);
+  else memset(qv, 0, n * sizeof(float));
   /* Temperature where the file has it (or potential temperature and pressure); without any, no
    * cell is below freezing (only split species need it, and those are refused without one). */
   if (!rc && (c->have_temp || c->have_theta))
@@ -185,9 +194,6 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
     else
       rc = sl_fail(err, SL_ERR_DATA, "%s: non-positive pressure at time %d", c->f->path, c->t);
   }
-  free(qv);
-  free(a);
-  free(temp);
   return rc;
 }
 
@@ -573,6 +579,7 @@ int sl_cf_load(const sl_nc *f, const sl_storm_info *info, const sl_load_options 
   if (!frame->land_mask && (rc = cf_surface_field(f, &L, &s, c.t, "land_area_fraction", &frame->land_mask, err)))
     goto done;
 done:
+  for (int i = 0; i < 3; ++i) free(c.scratch[i]);
   free(c.z_iface);
   free(c.z_levels);
   free(c.p_level);
