@@ -158,7 +158,7 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
   /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's); the
    * first cell refused (the least index) is the one reported. */
   size_t bad = n;
-#pragma omp parallel for reduction(min : bad) if (!rc)
+#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) reduction(min : bad) if (!rc)
   for (size_t i = 0; i < n; ++i) {
     if (c->kb && c->s->k0 + k_block + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
       rho_dry[i] = 0.0f, frozen[i] = 0;

@@ -326,7 +326,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     if ((rc = k0 == 0 ? r->interfaces(r->ctx, 0, nk + 1, z, err) : r->interfaces(r->ctx, k0 + 1, nk, z + n2, err)))
       goto done;
     size_t falling = cells;
-#pragma omp parallel for simd reduction(min : falling)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(min : falling)
     for (size_t i = 0; i < cells; ++i)
       if (!(z[i + n2] > z[i]) && i < falling) falling = i;
     if (falling < cells) {

@@ -9,6 +9,11 @@
 
 #define SL_FREEZING_K 273.15
 
+/* The cells a thread takes at a time in the loaders' loops between reads: dynamically, so that a
+ * thread another process keeps off its core leaves its share to the other (docs/PERFORMANCE.md, "A
+ * busy machine"), in pieces long enough that taking one costs nothing beside its work. */
+#define SL_IO_CHUNK 16384
+
 typedef struct sl_nc {
   int id;
   const char *path;

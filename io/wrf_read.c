@@ -242,7 +242,7 @@ static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
   if (!rc) rc = sl_nc_read_block(w->f, &w->ph, w->t, w->s->k0 + k0, nk, w->s, ph, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->phb, w->t, w->s->k0 + k0, nk, w->s, phb, err);
   /* Geopotential to height. */
-#pragma omp parallel for simd if (!rc)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) if (!rc)
   for (size_t i = 0; i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
   return rc;
 }
@@ -260,7 +260,7 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
   if (!rc) rc = sl_nc_read_block(w->f, &w->pb, w->t, k0, nk, w->s, pb, err);
   if (!rc) {
     int bad = 0;
-#pragma omp parallel for simd reduction(| : bad)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(| : bad)
     for (size_t i = 0; i < n; ++i) {
       pb[i] += p[i];
       bad |= !(pb[i] > 0.0f);
@@ -270,7 +270,7 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
   if (!rc) rc = sl_nc_read_block(w->f, &w->theta, w->t, k0, nk, w->s, theta, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->qv, w->t, k0, nk, w->s, qv, err);
   /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's). */
-#pragma omp parallel for if (!rc)
+#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) if (!rc)
   for (size_t i = 0; i < n; ++i) {
     const double pressure = pb[i], qvap = qv[i] > 0.0f ? qv[i] : 0.0;
     const double temperature = sl_temperature_from_wrf(theta[i], pressure);
