@@ -157,8 +157,9 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
   if (!rc && c->have_rho) rc = cf_block(c, &c->rho, k_block, nk, a, err);
   /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's); the
    * first cell refused (the least index) is the one reported. */
+  if (rc) return rc;
   size_t bad = n;
-#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) reduction(min : bad) if (!rc)
+#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) reduction(min : bad) if (n > SL_IO_CHUNK)
   for (size_t i = 0; i < n; ++i) {
     if (c->kb && c->s->k0 + k_block + (int)(i / c->n2) < c->kb[i % c->n2]) { /* below the ground: no air */
       rho_dry[i] = 0.0f, frozen[i] = 0;
@@ -184,7 +185,7 @@ static int cf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moi
     rho_dry[i] = (float)rho;
     if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + r));
   }
-  if (!rc && bad < n) {
+  if (bad < n) {
     if (!(qv[bad] >= -0.01 && qv[bad] <= 0.1))
       rc = sl_fail(err, SL_ERR_DATA, "%s: water vapour %g kg/kg at time %d is not physical (are its units right?)",
                    c->f->path, qv[bad], c->t);

@@ -208,13 +208,13 @@ static int read_hyperslab(const sl_nc *f, const sl_nc_var *v, int t, int k0, int
   /* Value by value, so shared among the threads (netCDF's read above is this thread's alone). */
   const double scale = v->scale, offset = v->offset;
   if (out_d) {
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) if (n > SL_IO_CHUNK)
     for (size_t i = 0; i < n; ++i) {
       const double x = out_d[i];
       out_d[i] = (x == fill || x == missing ? NAN : x) * scale + offset;
     }
   } else {
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) if (n > SL_IO_CHUNK)
     for (size_t i = 0; i < n; ++i) {
       const double x = (double)out_f[i];
       out_f[i] = (float)((x == fill || x == missing ? NAN : x) * scale + offset);
@@ -236,7 +236,7 @@ int sl_nc_read_block(const sl_nc *f, const sl_nc_var *v, int t, int k0, int nk, 
   if (rc) return rc;
   const size_t n = (size_t)(v->ndims - v->has_time == 3 ? nk : 1) * s->nx * s->ny;
   int bad = 0;
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(| : bad)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(| : bad) if (n > SL_IO_CHUNK)
   for (size_t i = 0; i < n; ++i) bad |= !isfinite(out[i]);
   return bad ? sl_nc_fail_missing(f, v->name, t, err) : SL_OK;
 }

@@ -106,8 +106,10 @@ static size_t deposit_species_block(const remap_block *x, const sl_species *sp, 
       for (int i = 0; i < nx; ++i) {
         const size_t c = (size_t)j * nx + i, i3 = (size_t)l * n2 + c;
         double v = x->q[i3];
-        if (v < q_min) q_min = v;
-        if (v > q_max) q_max = v;
+        /* Zero's sign is dropped (-0 + 0 is +0): which of two equal extremes a reduction keeps
+         * would otherwise depend on the threads. */
+        if (v + 0.0 < q_min) q_min = v + 0.0;
+        if (v + 0.0 > q_max) q_max = v + 0.0;
         const double qn = number_var ? x->qn[i3] : 0.0;
         if (cell_refused(v, number_var, qn)) {
           if (i3 < refused) refused = i3;
@@ -326,7 +328,7 @@ int sl_remap_levels(const char *path, const sl_level_reader *r, const sl_subset 
     if ((rc = k0 == 0 ? r->interfaces(r->ctx, 0, nk + 1, z, err) : r->interfaces(r->ctx, k0 + 1, nk, z + n2, err)))
       goto done;
     size_t falling = cells;
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(min : falling)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(min : falling) if (cells > SL_IO_CHUNK)
     for (size_t i = 0; i < cells; ++i)
       if (!(z[i + n2] > z[i]) && i < falling) falling = i;
     if (falling < cells) {

@@ -237,14 +237,15 @@ static int wrf_interfaces(void *ctx, int k0, int nk, double *z, sl_error *err)
 {
   wrf_levels *w = ctx;
   const size_t n = (size_t)nk * w->n2;
-  float *ph, *phb;
+  float *ph = NULL, *phb = NULL;
   int rc = two_buffers(w, n, &ph, &phb, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->ph, w->t, w->s->k0 + k0, nk, w->s, ph, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->phb, w->t, w->s->k0 + k0, nk, w->s, phb, err);
+  if (rc) return rc;
   /* Geopotential to height. */
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) if (!rc)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) if (n > SL_IO_CHUNK)
   for (size_t i = 0; i < n; ++i) z[i] = ((double)ph[i] + (double)phb[i]) / WRF_G;
-  return rc;
+  return SL_OK;
 }
 
 static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_moist, unsigned char *frozen,
@@ -253,14 +254,14 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
   wrf_levels *w = ctx;
   const int k0 = w->s->k0 + k_block;
   const size_t n = (size_t)nk * w->n2;
-  float *pb, *theta, *qv = rho_dry; /* rho_dry holds P + PB first */
+  float *pb = NULL, *theta = NULL, *qv = rho_dry; /* rho_dry holds P + PB first */
   float *p = rho_dry;
   int rc = two_buffers(w, n, &pb, &theta, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->p, w->t, k0, nk, w->s, p, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->pb, w->t, k0, nk, w->s, pb, err);
   if (!rc) {
     int bad = 0;
-#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(| : bad)
+#pragma omp parallel for simd schedule(dynamic, SL_IO_CHUNK) reduction(| : bad) if (n > SL_IO_CHUNK)
     for (size_t i = 0; i < n; ++i) {
       pb[i] += p[i];
       bad |= !(pb[i] > 0.0f);
@@ -269,8 +270,9 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
   }
   if (!rc) rc = sl_nc_read_block(w->f, &w->theta, w->t, k0, nk, w->s, theta, err);
   if (!rc) rc = sl_nc_read_block(w->f, &w->qv, w->t, k0, nk, w->s, qv, err);
+  if (rc) return rc;
   /* Cell by cell, so shared among the threads (the reads above stay on this one: netCDF's). */
-#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) if (!rc)
+#pragma omp parallel for schedule(dynamic, SL_IO_CHUNK) if (n > SL_IO_CHUNK)
   for (size_t i = 0; i < n; ++i) {
     const double pressure = pb[i], qvap = qv[i] > 0.0f ? qv[i] : 0.0;
     const double temperature = sl_temperature_from_wrf(theta[i], pressure);
@@ -279,7 +281,7 @@ static int wrf_air(void *ctx, int k_block, int nk, float *rho_dry, float *rho_mo
     rho_dry[i] = (float)rho;
     if (rho_moist) rho_moist[i] = (float)(rho * (1.0 + qvap));
   }
-  return rc;
+  return SL_OK;
 }
 
 static int wrf_field(void *ctx, const char *name, int k0, int nk, float *out, sl_error *err)

@@ -139,7 +139,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     reduction(min : mn0, mn1, mn2)
   for (long row = 0; row < rows; ++row) {
     const size_t first = sl_volume_box_row(scene->volume, box_lo, box_hi, row);
-    const int j = box_lo[1] + (int)(row % box_ny), k = box_lo[2] + (int)(row / box_ny);
+    const int row_j = box_lo[1] + (int)(row % box_ny), row_k = box_lo[2] + (int)(row / box_ny);
     for (size_t i = first; i <= first + (size_t)(box_hi[0] - box_lo[0]); ++i) {
       double total = 0.0;
       for (int j = 0; j < nf; ++j) {
@@ -159,10 +159,10 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
         const int x = box_lo[0] + (int)(i - first);
         if (x < mn0) mn0 = x;
         if (x > mx0) mx0 = x;
-        if (j < mn1) mn1 = j;
-        if (j > mx1) mx1 = j;
-        if (k < mn2) mn2 = k;
-        if (k > mx2) mx2 = k;
+        if (row_j < mn1) mn1 = row_j;
+        if (row_j > mx1) mx1 = row_j;
+        if (row_k < mn2) mn2 = row_k;
+        if (row_k > mx2) mx2 = row_k;
       }
     }
   }

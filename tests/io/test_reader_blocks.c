@@ -171,12 +171,17 @@ static void check_blocks(const char *path, int time_index, int level_first, int 
 static void check_first_refused(void)
 {
   char path[] = "/tmp/sl_test_reader_blocks_XXXXXX.nc";
-  close(mkstemps(path, 3));
+  const int fd = mkstemps(path, 3);
+  if (!CHECK(fd >= 0)) return;
+  close(fd);
   sl_error err = {0};
   sl_synth_options o;
   sl_synth_defaults(SL_SYNTH_STRATOCUMULUS, &o);
   o.nx = 12, o.ny = 10, o.nz = 16, o.ntimes = 1;
-  if (!CHECK(sl_synth_write(path, &o, &err) == SL_OK)) return;
+  if (!CHECK(sl_synth_write(path, &o, &err) == SL_OK)) {
+    unlink(path);
+    return;
+  }
   int nc, id;
   const size_t late[4] = {0, 7, 0, 0}, early[4] = {0, 3, 9, 11};
   const float late_value = 0.7f, early_value = 0.5f;
@@ -201,6 +206,16 @@ static void check_first_refused(void)
 
 int main(void)
 {
+  /* The thread counts asked for are the ones given (no dynamic adjustment), so that three threads
+   * do share the rows. */
+  omp_set_dynamic(0);
+  int team = 0;
+  omp_set_num_threads(3);
+#pragma omp parallel
+#pragma omp single
+  team = omp_get_num_threads();
+  CHECK_MSG(team == 3, "three threads asked for, three given (OMP_THREAD_LIMIT?)");
+  omp_set_num_threads(omp_get_num_procs());
   check_first_refused();
   const char *shared = getenv("SL_SHARED_DIR");
   char path[4096];
