@@ -3,7 +3,8 @@
 # synth KIND` (default cumulonimbus; stratocumulus is a deck over the whole domain) at NX x NY x NZ
 # (default 1000 x 1000 x 80, 500 m), then one 1920x1080 frame:
 # the load, each stage, the whole command's wall time and its peak memory against the fields'
-# float size, on the file's grid and on the uniform grid the loader resamples to. Run under
+# float size, on the file's grid and on the uniform grid the loader resamples to (the species that
+# hold anything; also all the hydrometeor variables of the file, empty ones too). Run under
 # xvfb-run -a. Prints; never fails on a number. Needs about 4 GB of memory and 260 MB of disk.
 # usage: tests/bench/bench_large.sh [BUILD_DIR] [NX NY NZ] [KIND]
 set -eu
@@ -26,8 +27,10 @@ print("synth %s %dx%dx%d: %.1f s" % (kind, nx, ny, nz, time.time() - t0))
 info = subprocess.run([sl, "info", nc], check=True, capture_output=True, text=True).stdout
 u = re.search(r"uniform\s+(\d+) x (\d+) x (\d+) samples", info)
 # The species the storm holds: a variable that is zero everywhere is dropped by the load.
-species = sum(float(m) > 0.0 for m in re.findall(r"^  Q\w+\s+min\s+\S+\s+max\s+(\S+)", info, re.M))
+maxima = re.findall(r"^  Q\w+\s+min\s+\S+\s+max\s+(\S+)", info, re.M)
+species = sum(float(m) > 0.0 for m in maxima)
 file_gb = nx * ny * nz * species * 4 / 1e9
+all_gb = nx * ny * nz * len(maxima) * 4 / 1e9
 uniform_gb = int(u.group(1)) * int(u.group(2)) * int(u.group(3)) * species * 4 / 1e9
 print("fields: %d species as floats: %.2f GB on the file's grid, %.2f GB on the uniform %s x %s x %s"
       % (species, file_gb, uniform_gb, u.group(1), u.group(2), u.group(3)))
@@ -48,6 +51,7 @@ rest = wall - sum(stages.values())
 print("whole command %.1f s: load %.1f, passes %.1f (light %.1f, eye %.1f), composite %.1f, write %.1f, the rest %.1f s"
       % (wall, stages["load"], stages["light pass"] + stages["eye pass"], stages["light pass"], stages["eye pass"],
          stages["composite"], stages["write"], rest))
-print("peak memory %.2f GB: %.2f x the fields on the file's grid, %.2f x on the uniform grid"
-      % (peak_gb, peak_gb / file_gb, peak_gb / uniform_gb))
+print("peak memory %.2f GB: %.2f x the fields on the file's grid, %.2f x on the uniform grid; "
+      "%.2f x all %d hydrometeor variables of the file (the empty ones too) as floats"
+      % (peak_gb, peak_gb / file_gb, peak_gb / uniform_gb, peak_gb / all_gb, len(maxima)))
 PY
