@@ -6,6 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h> /* malloc_trim */
+#endif
 
 #include "sl_large_alloc.h"
 #include "storm_internal.h"
@@ -590,6 +593,18 @@ static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *f
   return rc;
 }
 
+/* A load frees more than it keeps: each block's reader arrays and netCDF's chunk caches. glibc
+ * serves blocks under its sliding mmap threshold (up to 32 MiB) from the heap, and what they
+ * leave there stays the process's once freed, under the fields that outlive them: 170 MB after a
+ * 1000 x 1000 x 80 deck, through every later phase of its render (docs/PERFORMANCE.md, "A large
+ * storm"). Given back to the kernel at the load's end. */
+static void return_freed_heap(void)
+{
+#ifdef __GLIBC__
+  (void)malloc_trim(0);
+#endif
+}
+
 int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *frame, sl_error *err)
 {
   memset(frame, 0, sizeof *frame);
@@ -597,6 +612,7 @@ int sl_storm_load(const char *path, const sl_load_options *opt, sl_storm_frame *
   if (sl_nc_open(path, NULL, 0, &f, err)) return err->code;
   const int rc = load_nc(&f, opt, frame, err);
   nc_close(f.id);
+  return_freed_heap();
   return rc;
 }
 
@@ -608,6 +624,7 @@ int sl_storm_load_memory(const char *name, const void *data, size_t size, const 
   if (sl_nc_open(name, data, size, &f, err)) return err->code;
   const int rc = load_nc(&f, opt, frame, err);
   nc_close(f.id);
+  return_freed_heap();
   return rc;
 }
 
