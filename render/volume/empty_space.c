@@ -12,6 +12,7 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
   /* A brick is occupied where any trilinear cell with its lower corner in it reads a non-zero
    * total extinction; then each empty brick's distance to the nearest occupied one. */
   const sl_volume *v = &r->shape;
+  const int nf = r->model.nf > 0 ? r->model.nf : 1;
   const int n[3] = {v->nx, v->ny, v->nz};
   for (int a = 0; a < 3; ++a) r->bricks[a] = (n[a] + 7) / 8;
   const size_t bricks = (size_t)r->bricks[0] * r->bricks[1] * r->bricks[2];
@@ -46,7 +47,7 @@ int sl__bricks_build(sl_renderer *r, sl_error *err)
       for (int k = s0[2]; k <= s1[2]; ++k)
         for (int j = s0[1]; j <= s1[1]; ++j)
           for (int i = s0[0]; i <= s1[0]; ++i) {
-            const float beta = r->beta[sl_volume_index(v, i, j, k)];
+            const float beta = sl__sample_total(r->fields + sl_volume_index(v, i, j, k) * nf, nf);
             if (beta > beta_max) beta_max = beta;
           }
       if (beta_max > 0.0f) {
@@ -102,7 +103,7 @@ void sl__brick_empty_radius(const int n[3], unsigned char *radius)
  * returned point reads zero. */
 static double first_occupied(const sl_renderer *r, const double o[3], const double d[3], double t0, double t1)
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   int b[3], b_last[3], step[3];
   double u0[3], du[3], inv_du[3]; /* lattice coordinates at t0, their change per unit of t and its
                                      reciprocal (a division per axis and turn was a third of the walk) */

@@ -158,7 +158,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
     const double t_near = smid[si] - 0.5 * slen[si], step = slen[si] / SL_PART_PROFILE;
     double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
-    const double depth = sl__segment_profile(r, o, rq, t_near, step, step_beta, tau);
+    const double depth = sl__segment_profile(r, nf, o, rq, t_near, step, step_beta, tau);
     if (!(depth > 0.0)) continue;
     double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
     const int parts = sl_segment_parts(tau, t_near, step, t_near + slen[si], t_at, tau_at);

@@ -3,11 +3,11 @@
 
 #include <math.h>
 
-/* The total extinction at o + u d (the renderer's total-extinction grid). */
+/* The total extinction at o + u d. */
 static double ray_extinction(const sl_renderer *r, const double o[3], const double d[3], double u)
 {
   const double x[3] = {o[0] + u * d[0], o[1] + u * d[1], o[2] + u * d[2]};
-  return sl_grid_sample(&r->beta_view, x);
+  return sl__total_extinction(r, x);
 }
 
 /* Where a light texel's ray o + u prop enters the medium: where its optical depth from `first`

@@ -37,7 +37,7 @@ static inline __attribute__((always_inline)) void light_volume_cell(const sl_ren
   const sl_volume *v = &r->shape;
   const int stride = nwl + 1;
   int i0[3];
-  sl__lattice_cell(&r->beta_view, x, i0, cell->f);
+  sl__lattice_cell(&r->lattice, x, i0, cell->f);
   cell->c = r->light_volume + lv_index(v, i0[0], i0[1], i0[2], stride);
   const size_t sy = v->ny > 1 ? (size_t)v->nx * stride : 0;
   const size_t sz = v->nz > 1 ? (size_t)v->nx * v->ny * stride : 0;
@@ -82,7 +82,7 @@ static inline __attribute__((always_inline)) void light_volume_fetch(const sl_re
  * march jumps the cube instead of stepping through it. */
 static double empty_brick_exit(const sl_renderer *r, const double x[3], const double d[3])
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   int b[3];
   double f[3];
   sl__lattice_cell(g, x, b, f);
@@ -174,7 +174,7 @@ static inline __attribute__((always_inline)) int march_step_length(const sl_rend
                                                                    int nsteps, int s, double thin_depth)
 {
   if (!(thin_depth > 0.0) || s % 2) return 1;
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   const double ts = t0 + s * dt;
   const double xs[3] = {o[0] + ts * d[0], o[1] + ts * d[1], o[2] + ts * d[2]};
   int is[3];
@@ -215,7 +215,7 @@ static inline __attribute__((always_inline)) double march_thick_step(const sl_re
 {
   const double step = (te - ta) / SL_PART_PROFILE;
   double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
-  const double depth = sl__segment_profile(r, o, d, ta, step, step_beta, tau);
+  const double depth = sl__segment_profile(r, nf, o, d, ta, step, step_beta, tau);
   if (!(depth > 0.0)) return 0.0;
   double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
   const int parts = sl_segment_parts(tau, ta, step, te, t_at, tau_at);

@@ -76,13 +76,7 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
   memcpy(r->scene.sun_direction, sun, sizeof sun);
   r->shape = *scene->volume;
   memset(r->shape.eta, 0, sizeof r->shape.eta);
-  r->beta = sl__huge_calloc(sl_volume_count(scene->volume) * sizeof(float));
-  if (!r->beta) {
-    sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory for the extinction grid");
-    free(r);
-    return NULL;
-  }
-  sl_grid_view_init(&r->beta_view, r->beta, &r->shape);
+  sl_grid_view_init(&r->lattice, NULL, &r->shape);
   sl_volume_bounds(&r->shape, r->lo, r->hi);
   if (sl_light_model_init(&r->model, scene, err)) {
     sl_renderer_destroy(r);
@@ -110,7 +104,8 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     for (int c = 0; c < SL_CHANNELS; ++c) r->to_rgb[c * SL_CHANNELS + c] = 1.0;
   }
   /* Extinction per field from the tables' cross-sections (eq. 2), interleaved so one trilinear
-   * look-up serves every field; the total (eq. 3) for bounds and emptiness. */
+   * look-up serves every field; their total (eq. 3) is summed where it is read
+   * (sl__total_extinction). */
   const size_t count = sl_volume_count(scene->volume);
   const int nf = r->model.nf;
   const size_t field_bytes = ((nf > 0 ? nf : 1) * count + SL__FIELD_LANES) * sizeof(float); /* sl__field_fetch's last load */
@@ -120,8 +115,9 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
     sl_renderer_destroy(r);
     return NULL;
   }
-  /* Both grids read as zero: the loop writes only the samples that hold medium, so the clear air
-   * of a storm, most of its grid, takes no memory in them (sl__huge_calloc). It reads only the
+  if (nf <= 1) r->lattice.data = r->fields;
+  /* The grid reads as zero: the loop writes only the samples that hold medium, so the clear air
+   * of a storm, most of its grid, takes no memory in it (sl__huge_calloc). It reads only the
    * volume's content box, rows of it in parallel: at 1000 x 1000 x 160 samples the whole grid
    * took 9 s of one core. The first bad sample (the least index) is the one reported. */
   for (int j = 0; j < nf; ++j) sl__advise_huge_reads(scene->volume->eta[r->model.slot[j]], count * sizeof(float));
@@ -152,7 +148,6 @@ sl_renderer *sl_renderer_create(const sl_scene *scene, sl_error *err)
         if (b != 0.0) r->fields[i * nf + j] = (float)b;
         total += b;
       }
-      if (total != 0.0) r->beta[i] = (float)total;
       if (total > beta_max) beta_max = total;
       any |= total > 0.0;
       if ((float)total > 0.0f) {
@@ -188,7 +183,6 @@ void sl_renderer_destroy(sl_renderer *r)
 {
   if (!r) return;
   sl_light_model_free(&r->model);
-  free(r->beta);
   free(r->fields);
   free(r->light_volume);
   sl__sky_light_free(&r->sky);

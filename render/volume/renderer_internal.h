@@ -42,9 +42,10 @@ typedef struct sl__texel_spans {
 struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
-  float *beta;          /* total extinction, m^-1 */
-  double beta_max;      /* its largest value */
-  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1 */
+  double beta_max;      /* the largest total extinction, m^-1 */
+  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1;
+                           the total (eq. 3) is their sum, taken where it is read
+                           (sl__total_extinction): a stored copy would be another field's size */
   sl_light_model model;
   /* Per field mask, the model restricted to those fields (sl_light_model_subset), for the
    * slicer's batches that hold only some; only in the multiple-scattering model with two or more
@@ -67,7 +68,9 @@ struct sl_renderer {
   sl__ground ground;        /* the ground's shadow map and light (scene.ground_albedo), for the current sun */
   int sky_built;            /* sky and ground hold the current sun's (sl_renderer_prepare_sky) */
   sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
-  sl_grid_view beta_view; /* the lattice (total extinction), shared by the per-field samples */
+  sl_grid_view lattice;     /* the samples' lattice, the rule every trilinear look-up of the fields
+                               follows; its data: the one field where there is one (so the total),
+                               else NULL (the fields are interleaved) */
   double lo[3], hi[3];  /* the volume's box */
   double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
                                slices, light buffer and rays are clipped to it (empty-space skipping
@@ -143,7 +146,7 @@ static inline int sl__brick_radius(const sl_renderer *r, const int i0[3]) { retu
 
 static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { return sl__brick_radius(r, i0) == 0; }
 
-/* The brick occupancy of r->beta inside the content box and each empty brick's radius
+/* The brick occupancy of the total extinction inside the content box and each empty brick's radius
  * (r->bricks, r->empty_radius; empty_space.c). */
 int sl__bricks_build(sl_renderer *r, sl_error *err);
 
@@ -254,7 +257,7 @@ static inline __attribute__((always_inline)) int sl__field_cell_of(const sl_rend
                                                                    const int i0[3], const double f[3],
                                                                    const int prefetch, sl__field_cell *cell)
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   if (!sl__brick_occupied(r, i0)) return 0;
   cell->c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
   for (int a = 0; a < 3; ++a) cell->f[a] = (float)f[a];
@@ -277,7 +280,7 @@ static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_rend
                                                                    const double x[3], const int prefetch,
                                                                    sl__field_cell *cell)
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   int i0[3];
   double f[3];
   if (!sl__in_lattice_box(g, x)) return 0;
@@ -294,7 +297,7 @@ static inline __attribute__((always_inline)) int sl__field_cell_at(const sl_rend
 static inline __attribute__((always_inline)) void sl__field_fetch(const sl_renderer *r, const int nf,
                                                                   const sl__field_cell *cell, float *out)
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   const size_t sx = g->n[0] > 1 ? (size_t)nf : 0;
   const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
   const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;
@@ -323,6 +326,37 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
   return 1;
 }
 
+/* The total extinction at a sample whose fields start at c (Riley et al. 2004, eq. 3): the sum of
+ * the nf interleaved fields, in float, field by field. With one field it is that field. */
+static inline __attribute__((always_inline)) float sl__sample_total(const float *c, const int nf)
+{
+  float s = c[0];
+  for (int j = 1; j < nf; ++j) s += c[j];
+  return s;
+}
+
+/* Trilinear sample of the total extinction at x; 0 outside the box. One field: sl_grid_sample on
+ * it (r->lattice's data). More: every field's trilinear sample at once (sl__field_fetch), summed,
+ * as the passes' own samples are; 0 in an empty brick, where every cell reads zeros. nf is
+ * r->model.nf, passed apart so that the specialised passes give it as a constant. */
+static inline __attribute__((always_inline)) double sl__total_extinction_n(const sl_renderer *r, const int nf,
+                                                                         const double x[3])
+{
+  if (nf <= 1) return sl_grid_sample(&r->lattice, x);
+  sl__field_cell cell;
+  if (!sl__field_cell_at(r, nf, x, 0, &cell)) return 0.0;
+  float v[SL__FIELD_LANES];
+  sl__field_fetch(r, nf, &cell, v);
+  double total = 0.0;
+  for (int j = 0; j < nf; ++j) total += v[j];
+  return total;
+}
+
+static inline double sl__total_extinction(const sl_renderer *r, const double x[3])
+{
+  return sl__total_extinction_n(r, r->model.nf, x);
+}
+
 /* Pieces a short segment's optical depth is summed in at most (sl__segment_optical_depth). */
 #define SL__SEGMENT_PIECES 8
 /* The optical depth of the segment a -> b (a few cells at most): between the lattice's node planes
@@ -334,7 +368,7 @@ static inline __attribute__((always_inline)) int sl__sample_fields_n(const sl_re
  * wherever it lies along the segment, as a single midpoint is not. */
 static inline double sl__segment_optical_depth(const sl_renderer *r, const double a_in[3], const double b_in[3])
 {
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   /* Both ends lie in the box up to a rounding error (an eye sample and its light path's start
    * toward the sun), so the segment does: each end is clamped into it. Where the sun runs along a
    * face and the segment lies in it, the rounding would otherwise put the whole segment in or out. */
@@ -371,7 +405,7 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const doubl
     for (int k = 0; k < 2; ++k) {
       const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
       const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
-      sum += 0.5 * (l1 - l0) * sl_grid_sample(g, x); /* r->beta, the fields' total */
+      sum += 0.5 * (l1 - l0) * sl__total_extinction(r, x);
     }
   }
   return sum * len;

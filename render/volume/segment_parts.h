@@ -9,7 +9,7 @@
 /* The total extinction at the middles of SL_PART_PROFILE steps of `step` from t_near along the
  * ray o + t d, and the optical depth from t_near at each profile point (no end point is read: a
  * segment may end on the box's face, where the medium stops); returns the whole optical depth. */
-static inline __attribute__((always_inline)) double sl__segment_profile(const sl_renderer *r, const double o[3],
+static inline __attribute__((always_inline)) double sl__segment_profile(const sl_renderer *r, const int nf, const double o[3],
                                                                         const double d[3], double t_near,
                                                                         double step,
                                                                         double step_beta[SL_PART_PROFILE],
@@ -19,7 +19,7 @@ static inline __attribute__((always_inline)) double sl__segment_profile(const sl
   for (int k = 0; k < SL_PART_PROFILE; ++k) {
     const double t = t_near + (k + 0.5) * step;
     const double x[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
-    step_beta[k] = sl_grid_sample(&r->beta_view, x); /* r->beta, the fields' total */
+    step_beta[k] = sl__total_extinction_n(r, nf, x);
     tau[k + 1] = tau[k] + step * step_beta[k];
   }
   return tau[SL_PART_PROFILE];

@@ -157,7 +157,7 @@ static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_f
   const int *pk = f->pk;
   const double *ray = f->ray, *o = f->cam->position;
   const double h_o = f->h_o, ds = f->ds;
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   const int tx1 = tx0 + TILE < img->width ? tx0 + TILE : img->width;
   int cnt = 0;
   for (int py = ty0; py < ty0 + TILE && py < img->height; ++py) {
@@ -248,7 +248,7 @@ static inline __attribute__((always_inline)) void light_pass_tile(const slicer_f
   float bj[TILE * TILE][SL_MAX_FIELDS];
   sl__field_cell cells[TILE * TILE];
   const double half = 0.5 * ds * inv_hp;
-  const sl_grid_view *g = &r->beta_view;
+  const sl_grid_view *g = &r->lattice;
   const int tx1 = tx0 + TILE < L.w ? tx0 + TILE : L.w;
   const double *restrict h_origin = L.h_origin;
   const float *restrict u_in = L.u_in, *restrict u_out = L.u_out;

@@ -18,7 +18,7 @@ double sl__optical_depth(const sl_renderer *r, const double o[3], const double d
   for (double t = t0; t < t1; t += step) {
     const double len = fmin(step, t1 - t), tm = t + 0.5 * len;
     const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
-    const double dtau = len * sl_grid_sample(&r->beta_view, x);
+    const double dtau = len * sl__total_extinction(r, x);
     if (tau + dtau >= stop) {
       *t_stop = t + (dtau > 0.0 ? (stop - tau) / dtau * len : 0.0);
       return stop;

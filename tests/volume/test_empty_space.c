@@ -174,7 +174,7 @@ static void test_walk(void)
       const double x[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
       int cell[3];
       double f[3];
-      sl__lattice_cell(&r->beta_view, x, cell, f);
+      sl__lattice_cell(&r->lattice, x, cell, f);
       if (!sl__brick_occupied(r, cell)) continue;
       if (t < m_first) m_first = t;
       m_last = t;
