@@ -168,11 +168,10 @@ static int render_main(int argc, char **argv, sl::FrameKeep *keep)
   const std::string &sun_note = session.sun_note;
   const sl_storm_frame &frame = session.frame;
   const sl_scene &scene = session.scene;
-  sl_renderer *r = session.renderer;
   double t0 = 0;
   sl_camera cam{};
   double lo_box[3], hi_box[3];
-  sl_renderer_content_bounds(r, lo_box, hi_box);
+  sl_renderer_content_bounds(session.renderer, lo_box, hi_box);
   sl_scene_camera(&session.settings, &frame.volume, lo_box, hi_box, scene.sun_direction, &cam);
   // The scene around the storm: terrain (stops the eye rays, shadowed by the storm) and map layers.
   sl::MapLayers map_layers;
@@ -221,6 +220,7 @@ static int render_main(int argc, char **argv, sl::FrameKeep *keep)
     }
     if (o.has("gpu") && !gpu_done) std::fprintf(stderr, "render: --gpu: %s; rendering on the CPU\n", gpu_note.c_str());
   }
+  if (!gpu_done) session.release_renderer();
   if ((night.night_sky[0] > 0.0 || night.night_sky[1] > 0.0 || night.night_sky[2] > 0.0) &&
       sl_night_sky_fill(&cam, night.night_sky, &background, &err)) {
     rc = sl::fail(cmd, err.message);

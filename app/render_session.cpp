@@ -121,6 +121,12 @@ void RenderSession::release_fields()
   for (int k = 0; k < SL_VOLUME_SLOTS; ++k) sl_volume_drop_field(&built.frame.volume, k);
 }
 
+void RenderSession::release_renderer()
+{
+  sl_renderer_destroy(renderer);
+  renderer = nullptr;
+}
+
 bool RenderSession::set_sun(double elevation_deg, double compass_azimuth_deg, std::string *why)
 {
   double sun[3];

@@ -66,6 +66,10 @@ class RenderSession {
   // second copy of the storm through its passes and composite (on a 1000 x 1000 x 160 deck, half a
   // gigabyte). The frame keeps its grid, stats and columns; its fields are absent after.
   void release_fields();
+  // Frees the renderer once the CPU has drawn the one frame: the composite, the glow and the write
+  // read only the images, and the renderer's grids are the storm's size (on a 1000 x 1000 x 160
+  // deck, half a gigabyte beside VTK's composite). Not after a GPU draw, whose drawer keeps it.
+  void release_renderer();
 
   // The volume layer and the background for cam. gpu: the GPU pass, falling back to the CPU
   // with *gpu_note saying why (then *gpu_done is false).
