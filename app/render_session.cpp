@@ -81,7 +81,9 @@ RenderSession::RenderSession() : parts_(new Parts) {}
 
 RenderSession::~RenderSession()
 {
-  parts_.reset();  // the GL resources first, while the renderer they were drawn from exists
+  // The GL resources first, while the renderer they were drawn from exists (a CPU draw after a
+  // failed GPU one has released it: their release reads only textures and framebuffers).
+  parts_.reset();
   sl_built_scene_free(&built);
 }
 

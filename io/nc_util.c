@@ -155,10 +155,12 @@ int sl_nc_var_open(const sl_nc *f, const char *name, int ndims, const char *cons
   snprintf(v->name, sizeof v->name, "%s", name);
   if (nc_inq_varid(f->id, name, &v->varid) != NC_NOERR)
     return sl_fail(err, SL_ERR_FORMAT, "%s: missing variable '%s'", f->path, name);
-  /* No chunk cache: the loader reads a variable in blocks of whole layers of its chunks, so it
-   * inflates each chunk once (remap.c), and netCDF's default cache, up to 16 MiB of inflated
-   * chunks a variable, would only hold memory until the file closes (0.08 GB at a 1000 x 1000
-   * deck's peak). Classic files have none: the call then fails, which changes nothing. */
+  /* No chunk cache: the loader reads a variable in blocks of whole layers of its chunks (remap.c),
+   * so it inflates a chunk once, but for PH and PHB's next layer at each block's top, variables
+   * chunked shallower than the deepest, and blocks set smaller than a layer (block_levels); a
+   * cache of netCDF's default 16 MiB a variable holds one chunk of a large file's many in a layer,
+   * and would only hold memory until the file closes (0.08 GB at a 1000 x 1000 deck's peak).
+   * Classic files have none: the call then fails, which changes nothing. */
   (void)nc_set_var_chunk_cache(f->id, v->varid, 0, 0, 0.75f);
   int nd, dimids[NC_MAX_VAR_DIMS];
   nc_type type;

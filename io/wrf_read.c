@@ -593,11 +593,11 @@ static int load_nc(const sl_nc *f, const sl_load_options *opt, sl_storm_frame *f
   return rc;
 }
 
-/* A load frees more than it keeps: each block's reader arrays and netCDF's chunk caches. glibc
- * serves blocks under its sliding mmap threshold (up to 32 MiB) from the heap, and what they
- * leave there stays the process's once freed, under the fields that outlive them: 170 MB after a
- * 1000 x 1000 x 80 deck, through every later phase of its render (docs/PERFORMANCE.md, "A large
- * storm"). Given back to the kernel at the load's end. */
+/* A load frees more than it keeps: each block's reader arrays, and netCDF's and HDF5's own work
+ * memory. glibc serves blocks under its sliding mmap threshold (up to 32 MiB) from the heap, and
+ * what they leave there stays the process's once freed, under the fields that outlive them (on a
+ * 1000 x 1000 x 80 deck, 170 MB with netCDF's chunk caches on, through every later phase of its
+ * render: docs/PERFORMANCE.md, "A large storm"). Given back to the kernel at the load's end. */
 static void return_freed_heap(void)
 {
 #ifdef __GLIBC__

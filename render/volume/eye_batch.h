@@ -314,7 +314,7 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
       }
       const double x[3] = {o[0] + te[end] * rq[0], o[1] + te[end] * rq[1], o[2] + te[end] * rq[2]};
       const double p[3] = {x[0] - path * prop[0], x[1] - path * prop[1], x[2] - path * prop[2]};
-      depth[end] = path > 0.0 ? sl__segment_optical_depth(r, p, x) : 0.0;
+      depth[end] = path > 0.0 ? sl__segment_optical_depth(r, nf, p, x) : 0.0;
     }
     held_q = b->q[s];
     for (int end = 0; end < 2; ++end) held_t[end] = te[end], held_depth[end] = depth[end];

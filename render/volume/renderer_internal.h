@@ -43,7 +43,8 @@ struct sl_renderer {
   sl_scene scene;
   sl_volume shape;      /* the lattice of the volume, without fields */
   double beta_max;      /* the largest total extinction, m^-1 */
-  float *fields;        /* extinction per present field, interleaved (model.nf per sample), m^-1;
+  float *fields;        /* extinction per present field, interleaved (model.nf per sample, one
+                           of zeros without any), m^-1;
                            the total (eq. 3) is their sum, taken where it is read
                            (sl__total_extinction): a stored copy would be another field's size */
   sl_light_model model;
@@ -69,8 +70,8 @@ struct sl_renderer {
   int sky_built;            /* sky and ground hold the current sun's (sl_renderer_prepare_sky) */
   sl__texel_spans texel_spans; /* the slicer's light texels' rays, kept from frame to frame */
   sl_grid_view lattice;     /* the samples' lattice, the rule every trilinear look-up of the fields
-                               follows; its data: the one field where there is one (so the total),
-                               else NULL (the fields are interleaved) */
+                               follows; its data: the one field where there is at most one (so
+                               the total), else NULL (the fields are interleaved) */
   double lo[3], hi[3];  /* the volume's box */
   double clo[3], chi[3];    /* the box around non-empty samples: nothing outside it scatters, so
                                slices, light buffer and rays are clipped to it (empty-space skipping
@@ -359,14 +360,16 @@ static inline double sl__total_extinction(const sl_renderer *r, const double x[3
 
 /* Pieces a short segment's optical depth is summed in at most (sl__segment_optical_depth). */
 #define SL__SEGMENT_PIECES 8
-/* The optical depth of the segment a -> b (a few cells at most): between the lattice's node planes
- * the trilinear field is a cubic along a line, which the two-point Gauss-Legendre rule integrates
- * exactly, so the segment is cut where it crosses them and each piece is taken by that rule (which
- * reads no end point: a segment ending on the box's face, where the medium stops, is not read
- * there). Exact where the segment crosses fewer than SL__SEGMENT_PIECES pieces; past that, equal
- * pieces. A cloud's surface where its density ramps up from zero within a cell is then integrated
- * wherever it lies along the segment, as a single midpoint is not. */
-static inline double sl__segment_optical_depth(const sl_renderer *r, const double a_in[3], const double b_in[3])
+/* The optical depth of the segment a -> b (a few cells at most; nf is r->model.nf): between the
+ * lattice's node planes the trilinear field is a cubic along a line, which the two-point
+ * Gauss-Legendre rule integrates exactly, so the segment is cut where it crosses them and each
+ * piece is taken by that rule (which reads no end point: a segment ending on the box's face, where
+ * the medium stops, is not read there). Exact where the segment crosses fewer than
+ * SL__SEGMENT_PIECES pieces; past that, equal pieces. A cloud's surface where its density ramps up
+ * from zero within a cell is then integrated wherever it lies along the segment, as a single
+ * midpoint is not. */
+static inline double sl__segment_optical_depth(const sl_renderer *r, const int nf, const double a_in[3],
+                                               const double b_in[3])
 {
   const sl_grid_view *g = &r->lattice;
   /* Both ends lie in the box up to a rounding error (an eye sample and its light path's start
@@ -405,7 +408,7 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const doubl
     for (int k = 0; k < 2; ++k) {
       const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
       const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
-      sum += 0.5 * (l1 - l0) * sl__total_extinction(r, x);
+      sum += 0.5 * (l1 - l0) * sl__total_extinction_n(r, nf, x);
     }
   }
   return sum * len;
