@@ -502,6 +502,19 @@ static inline __attribute__((always_inline)) void resolve_march_pixel(const marc
   sl__resolve_pixel(f->r, sc->atmosphere ? f->view : NULL, d, t_mid, a, f->img, q);
 }
 
+/* Pixel q of the refined march from its accumulator a. Its ray and span only where the resolve
+ * reads them, for the air in front of a pixel that holds some medium: without air, or where the
+ * volume covers nothing, sl__resolve_pixel reads neither, and most of a frame's pixels are spared
+ * the ray and its box test. */
+static inline __attribute__((always_inline)) void resolve_refined_pixel(const march_frame *f, const int nwl, size_t q,
+                                                                        const float *a)
+{
+  double d[3] = {0.0, 0.0, 0.0}, t0 = 0.0, t1 = 0.0;
+  int hard;
+  if (f->r->scene.atmosphere && a[nwl] < 1.0f) pixel_span(f, q, d, &t0, &t1, &hard);
+  resolve_march_pixel(f, q, d, t0, t1, a);
+}
+
 /* The march with adaptive refinement (pixel_refine.h): the rays of each list, shared among the
  * threads, then the next finer list, then the fill and the resolve. Three or four barriers a frame,
  * not one per slice. */
@@ -512,12 +525,16 @@ static inline __attribute__((always_inline)) void march_pixels_refined(march_fra
   sl__refine *rf = f->refine;
   const size_t np = (size_t)f->img->width * f->img->height;
   const int nc = rf->channels;
+  /* Only a camera with opaque distances (the ground, terrain) has rays that a surface cuts; the
+   * flags start zero. */
+  if (f->cam->opaque_distance) {
 #pragma omp for schedule(static)
-  for (size_t q = 0; q < np; ++q) {
-    double d[3], t0, t1;
-    int hard;
-    pixel_span(f, q, d, &t0, &t1, &hard);
-    rf->hard[q] = (unsigned char)hard;
+    for (size_t q = 0; q < np; ++q) {
+      double d[3], t0, t1;
+      int hard;
+      pixel_span(f, q, d, &t0, &t1, &hard);
+      rf->hard[q] = (unsigned char)hard;
+    }
   }
 #pragma omp single
   f->count = sl__refine_first(rf);
@@ -535,12 +552,7 @@ static inline __attribute__((always_inline)) void march_pixels_refined(march_fra
   }
   sl__refine_fill(rf);
 #pragma omp for schedule(static)
-  for (size_t q = 0; q < np; ++q) {
-    double d[3], t0, t1;
-    int hard;
-    pixel_span(f, q, d, &t0, &t1, &hard);
-    resolve_march_pixel(f, q, d, t0, t1, rf->acc + q * nc);
-  }
+  for (size_t q = 0; q < np; ++q) resolve_refined_pixel(f, nwl, q, rf->acc + q * nc);
 }
 
 /* One thread's share of the march (the pixel loop inside binds to the caller's parallel region),
