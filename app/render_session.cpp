@@ -129,8 +129,18 @@ void RenderSession::release_renderer()
   renderer = nullptr;
 }
 
+// After release_renderer nothing may draw or change the light: a caller that tries gets a line, not
+// a null renderer.
+static bool renderer_kept(const sl_renderer *renderer, std::string *why)
+{
+  if (renderer) return true;
+  *why = "the renderer was freed after its one frame";
+  return false;
+}
+
 bool RenderSession::set_sun(double elevation_deg, double compass_azimuth_deg, std::string *why)
 {
+  if (!renderer_kept(renderer, why)) return false;
   double sun[3];
   sl_sun_direction(elevation_deg, sl_georef_grid_azimuth(&frame.georef, compass_azimuth_deg), sun);
   sl_error err{};
@@ -146,6 +156,7 @@ bool RenderSession::set_sun(double elevation_deg, double compass_azimuth_deg, st
 
 bool RenderSession::set_march_samples(int samples, std::string *why)
 {
+  if (!renderer_kept(renderer, why)) return false;
   sl_error err{};
   if (sl_renderer_set_march_samples(renderer, samples, &err)) {
     *why = err.message;
@@ -158,13 +169,14 @@ bool RenderSession::set_march_samples(int samples, std::string *why)
 void RenderSession::set_xi(double xi)
 {
   scene.xi = xi;
-  sl_renderer_set_xi(renderer, xi);
+  if (renderer) sl_renderer_set_xi(renderer, xi);
 }
 
 bool RenderSession::draw(const sl_camera &cam, bool gpu, sl_image *volume, sl_image *background,
                          sl_render_stats *stats, bool *gpu_done, std::string *gpu_note, std::string *why)
 {
   *gpu_done = false;
+  if (!renderer_kept(renderer, why)) return false;
   sl_error err{};
   if (gpu) {
     GpuTimings gt;

@@ -69,6 +69,7 @@ class RenderSession {
   // Frees the renderer once the CPU has drawn the one frame: the composite, the glow and the write
   // read only the images, and the renderer's grids are the storm's size (on a 1000 x 1000 x 160
   // deck, half a gigabyte beside VTK's composite). Not after a GPU draw, whose drawer keeps it.
+  // After it draw, set_sun and set_march_samples return false with a line.
   void release_renderer();
 
   // The volume layer and the background for cam. gpu: the GPU pass, falling back to the CPU
