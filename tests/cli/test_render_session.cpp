@@ -31,8 +31,13 @@ int main(int argc, char **argv)
   session.release_renderer();
   CHECK(session.renderer == nullptr);
 
+  // A camera the renderer would accept: only the guard stands between draw and a null renderer.
   sl_camera cam{};
+  cam.width = 64, cam.height = 48, cam.fov_deg = 30.0;
+  const double position[3] = {0.0, -50000.0, 2000.0}, target[3] = {0.0, 0.0, 1000.0}, up[3] = {0.0, 0.0, 1.0};
+  for (int a = 0; a < 3; ++a) cam.position[a] = position[a], cam.target[a] = target[a], cam.up[a] = up[a];
   sl_image volume{}, background{};
+  volume.width = background.width = cam.width, volume.height = background.height = cam.height;
   sl_render_stats stats{};
   bool gpu_done = true;
   std::string note;
