@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "light_volume.h"
+#include "march_phases.h"
 #include "pixel_refine.h"
 #include "segment_parts.h"
 #include "sky_light_gather.h"
@@ -20,6 +21,7 @@
 #include "vector_math.h"
 
 _Static_assert(MARCH_BATCH == SL__SKY_BATCH, "the skylight gather's rows are a march batch");
+_Static_assert(MARCH_BATCH == SL__MARCH_PHASE_BATCH, "eq. 26's rows are a march batch");
 
 
 /* A light-volume look-up in two steps, as the fields' (sl__field_cell_at, sl__field_fetch): a
@@ -118,24 +120,6 @@ typedef struct march_frame {
   long samples;
   int wide_isa; /* which copy ran */
 } march_frame;
-
-/* The table reads of a batch of a ray's steps: eq. 26's angular term per wavelength at the mean
- * expected scattering count of each step's two ends (the angle is the ray's). One loop over the
- * steps that GCC turns into gathers; the steps are independent (ivdep). */
-static inline __attribute__((always_inline)) void march_batch_phases(const sl_light_model *m, const int mode,
-                                                                     const int nf, const int nwl, const int live,
-                                                                     float (*restrict fields)[SL_MAX_FIELDS],
-                                                                     const double *restrict n, const int angle_index,
-                                                                     const double angle_weight,
-                                                                     double (*restrict phase)[MARCH_BATCH])
-{
-#pragma GCC ivdep
-  for (int s = 0; s < live; ++s) {
-    double ph[SL_MAX_WAVELENGTHS];
-    sl_eye_phase_at(m, mode, nf, nwl, fields[s], n[s], angle_index, angle_weight, ph);
-    for (int c = 0; c < nwl; ++c) phase[c][s] = ph[c];
-  }
-}
 
 /* A batch of a ray's march segments (a step, several thin steps as one, or a part of a thick step:
  * march_batch_steps): per segment, and per wavelength and segment (or point: a segment's two ends,
@@ -380,7 +364,7 @@ static inline __attribute__((always_inline)) void march_batch_scatter(const sl_l
   const sl_light_model *held_model = m;
   const int held = sl__batch_fields(subsets, nf, live, b->fields, &held_model);
 #define MARCH_PHASES(model, mode, count) \
-  march_batch_phases(model, mode, count, nwl, live, b->fields, b->n, angle_index, angle_weight, b->phase)
+  sl__march_phases(model, mode, count, nwl, live, b->fields, b->n, angle_index, angle_weight, b->phase)
   SL_WITH_BATCH_MODEL(m, held_model, held, nf, MARCH_PHASES);
 #undef MARCH_PHASES
 #pragma omp simd

@@ -236,6 +236,25 @@ SL_INLINE void sl_light_fraction_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_M
   for (int c = 0; c < SL_NWL; ++c) fraction[c] = sl_exp(log_kept[c]);
 }
 
+/* Field j's Ams table at wavelength c and order k (its last order where k is past it) at the
+ * scattering angle of grid row angle_index and weight angle_weight, linear between the rows. */
+SL_INLINE SL_REAL sl_ams_at_angle(SL_MODEL_PARAM int j, int c, int k, int angle_index, SL_REAL angle_weight)
+{
+  int N = SL_MAX_ORDER(j, c);
+  int kk = k > N ? N : k;
+  SL_REAL a0 = SL_AMS(j, c, kk, angle_index), a1 = SL_AMS(j, c, kk, angle_index + 1);
+  return a0 + angle_weight * (a1 - a0);
+}
+
+/* Field j's share of eq. 26's angular term at wavelength c (below): its scattering coefficient
+ * times Ams_{n+1} plus xi, Ams linear in the order between its values ams_k and ams_k1 at the
+ * orders around n + 1 (fraction f past the lower). */
+SL_INLINE SL_REAL sl_eye_phase_field(SL_MODEL_PARAM int j, int c, SL_REAL beta, SL_REAL f, SL_REAL ams_k,
+                                     SL_REAL ams_k1)
+{
+  return SL_ALBEDO(j, c) * beta * ((1.0 - f) * ams_k + f * ams_k1 + SL_XI);
+}
+
 /* Riley et al. 2004, eq. 26's angular term per wavelength at a sample whose light has scattered
  * n times: the fields' Ams_{n+1} (linear in n) plus xi, weighted by each field's scattering
  * coefficient (eq. 6): result[c] = sum_j albedo_j,c beta_j (Ams_j,c(n+1) + xi), m^-1 sr^-1. The
@@ -258,15 +277,11 @@ SL_INLINE void sl_eye_phase_at(SL_MODEL_PARAM SL_IN_ARRAY(float, beta, SL_MAX_FI
     SL_REAL sum = 0.0;
     SL_UNROLL
     for (int j = 0; j < SL_NF; ++j) {
-      int N = SL_MAX_ORDER(j, c);
-      int k0 = k > N ? N : k, k1 = k + 1 > N ? N : k + 1;
-      SL_REAL a00 = SL_AMS(j, c, k0, angle_index), a01 = SL_AMS(j, c, k0, angle_index + 1);
-      SL_REAL a10 = SL_AMS(j, c, k1, angle_index), a11 = SL_AMS(j, c, k1, angle_index + 1);
-      SL_REAL a0 = a00 + angle_weight * (a01 - a00);
-      SL_REAL a1 = a10 + angle_weight * (a11 - a10);
+      SL_REAL a0 = sl_ams_at_angle(SL_MODEL_ARG j, c, k, angle_index, angle_weight);
+      SL_REAL a1 = sl_ams_at_angle(SL_MODEL_ARG j, c, k + 1, angle_index, angle_weight);
       /* A selection, not a skip, so that the CPU's loop over a batch's samples vectorises; a
        * field absent here adds nothing (its tables are finite, and read in bounds). */
-      SL_REAL term = SL_ALBEDO(j, c) * beta[j] * ((1.0 - f) * a0 + f * a1 + SL_XI);
+      SL_REAL term = sl_eye_phase_field(SL_MODEL_ARG j, c, beta[j], f, a0, a1);
       sum += beta[j] > 0.0 ? term : 0.0;
     }
     result[c] = sum;

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "coarse_optics.h"
 #include "renderer_internal.h"
 #include "sl_optics.h"
 #include "sl_renderer.h"
@@ -215,15 +216,8 @@ int main(void)
     CHECK(sl_volume_add_field(vols[w], SL_ICE, &err) == SL_OK);
     fill(vols[w], w);
   }
-  /* Coarse tables (1 degree, few ice rays): the test compares two renders with the same tables. */
-  sl_optics_request req;
-  sl_optics_request_defaults(&req);
-  req.particles = (1u << SL_CLOUD) | (1u << SL_ICE);
-  req.angle_step_deg = 1.0;
-  req.radius_samples = 16;
-  req.ice_rays = 20000;
-  req.use_cache = 0;
-  sl_optics_tables *optics = sl_optics_build(&req, &err);
+  /* Coarse tables: the test compares two renders with the same tables. */
+  sl_optics_tables *optics = coarse_optics((1u << SL_CLOUD) | (1u << SL_ICE), &err);
   if (!CHECK_MSG(optics != NULL, err.message)) return sl_test_finish("test_empty_space");
   /* Sun: oblique, and straight down (texel rays along one axis only). View: from several sides,
    * toward and away from the sun, and from inside the box. */
