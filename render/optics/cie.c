@@ -50,11 +50,3 @@ int sl_cie_srgb_weights(const double *nm, int n, int white_balance, double *w, s
   return SL_OK;
 }
 
-void sl_cie_apply(const double *w, int n, const double *radiance, double rgb[3])
-{
-  for (int c = 0; c < 3; ++c) {
-    double s = 0.0;
-    for (int i = 0; i < n; ++i) s += w[c * n + i] * radiance[i];
-    rgb[c] = s;
-  }
-}

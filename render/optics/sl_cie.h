@@ -19,8 +19,15 @@ void sl_cie_xyz_bar(double wavelength_nm, double xyz[3]);
  * sun of "irradiance 1 per channel" (DESIGN.md). */
 int sl_cie_srgb_weights(const double *wavelengths_nm, int n, int white_balance, double *w, sl_error *err);
 
-/* Convenience: rgb = weights applied to radiance. */
-void sl_cie_apply(const double *w, int n, const double *radiance, double rgb[3]);
+/* rgb = the weights applied to radiance (inline: the passes resolve every pixel with it). */
+static inline void sl_cie_apply(const double *w, int n, const double *radiance, double rgb[3])
+{
+  for (int c = 0; c < 3; ++c) {
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += w[c * n + i] * radiance[i];
+    rgb[c] = s;
+  }
+}
 
 #ifdef __cplusplus
 }

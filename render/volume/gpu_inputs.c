@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "renderer_internal.h"
+#include "resolve.h"
 #include "sl_sample_physics.h"
 
 void sl_renderer_gpu_inputs_get(const sl_renderer *r, sl_renderer_gpu_inputs *out)
@@ -78,7 +79,7 @@ int sl_renderer_resolve_accumulator(const sl_renderer *r, const sl_camera *cam, 
     if (t0 < 0.0) t0 = 0.0;
     /* The light-volume pass's midplane: across the view axis through the content's centre. */
     const double t_mid = sl_resolve_split(sl_dot3(fwd, d), h_center - f_o, t0, t1);
-    sl__resolve_pixel(r, sc->atmosphere ? &view : NULL, d, t_mid, acc + q * (size_t)stride, img, q);
+    sl__resolve_pixel(r, r->model.nwl, sc->atmosphere ? &view : NULL, d, t_mid, acc + q * (size_t)stride, img, q);
   }
   return SL_OK;
 }

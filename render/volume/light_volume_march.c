@@ -15,6 +15,7 @@
 #include "light_volume.h"
 #include "march_phases.h"
 #include "pixel_refine.h"
+#include "resolve.h"
 #include "segment_parts.h"
 #include "sky_light_gather.h"
 #include "sl_sample_physics.h"
@@ -477,13 +478,13 @@ static inline __attribute__((always_inline)) void march_pixel(const march_frame 
 }
 
 /* Pixel q from its accumulator: the resolve against the air in front. */
-static inline __attribute__((always_inline)) void resolve_march_pixel(const march_frame *f, size_t q,
+static inline __attribute__((always_inline)) void resolve_march_pixel(const march_frame *f, const int nwl, size_t q,
                                                                       const double d[3], double t0, double t1,
                                                                       const float *a)
 {
   const sl_scene *sc = &f->r->scene;
   const double t_mid = sl_resolve_split(sl_dot3(f->fwd, d), f->h_center - f->f_o, t0, t1);
-  sl__resolve_pixel(f->r, sc->atmosphere ? f->view : NULL, d, t_mid, a, f->img, q);
+  sl__resolve_pixel(f->r, nwl, sc->atmosphere ? f->view : NULL, d, t_mid, a, f->img, q);
 }
 
 /* Pixel q of the refined march from its accumulator a. Its ray and span only where the resolve
@@ -496,7 +497,7 @@ static inline __attribute__((always_inline)) void resolve_refined_pixel(const ma
   double d[3] = {0.0, 0.0, 0.0}, t0 = 0.0, t1 = 0.0;
   int hard;
   if (f->r->scene.atmosphere && a[nwl] < 1.0f) pixel_span(f, q, d, &t0, &t1, &hard);
-  resolve_march_pixel(f, q, d, t0, t1, a);
+  resolve_march_pixel(f, nwl, q, d, t0, t1, a);
 }
 
 /* The march with adaptive refinement (pixel_refine.h): the rays of each list, shared among the
@@ -558,7 +559,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
       int hard;
       const int hit = pixel_span(f, q, d, &t0, &t1, &hard);
       march_pixel(f, nf, nwl, &sun_lane, d, t0, t1, hit, &batch, a, &samples);
-      resolve_march_pixel(f, q, d, t0, t1, a);
+      resolve_march_pixel(f, nwl, q, d, t0, t1, a);
     }
   }
 #pragma omp atomic

@@ -455,11 +455,6 @@ static inline __attribute__((always_inline)) int sl__batch_fields(const sl_light
     else CALL((m), (int)(m)->mode, (nf)); \
   } while (0)
 
-/* Writes pixel q from its accumulator a (radiance per wavelength, transparency, depth
- * numerator): the aerial perspective in front of t_mid, the spectral-to-RGB conversion. */
-void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
-                       const float *a, sl_image *img, size_t q);
-
 /* Optical depth of the ray o + t d through the total extinction over [t0, t1] by the midpoint rule
  * in steps of `step`, stopping where it reaches `stop` (*t_stop there; +inf when it never does;
  * surface_sunlight.c). */

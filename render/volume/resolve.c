@@ -1,29 +1,11 @@
-/* What the air adds around the volume: the resolve of a pixel's accumulated volume light through
- * the air in front of it (Riley et al. 2004, sec. 5), the frame behind the volume (sky, sun disk,
- * ground distance), and the ground's distance along the camera's rays. */
+/* What the air adds around the volume: the frame behind the volume (sky, sun disk, ground
+ * distance) and the ground's distance along the camera's rays. A pixel's resolve through the air
+ * in front of it is resolve.h's. */
 #include "renderer_internal.h"
 #include "sl_cie.h"
 #include "sl_sample_physics.h"
 
 #include <math.h>
-
-void sl__resolve_pixel(const sl_renderer *r, const sl_sky_view *view, const double d[3], double t_mid,
-                       const float *a, sl_image *img, size_t q)
-{
-  const int nwl = r->model.nwl;
-  const float transparency = a[nwl];
-  double front[SL_MAX_WAVELENGTHS] = {0}, front_t[SL_MAX_WAVELENGTHS], spectrum[SL_MAX_WAVELENGTHS];
-  for (int c = 0; c < nwl; ++c) front_t[c] = 1.0;
-  if (view && transparency < 1.0f) sl_sky_view_segment(view, d, 0.0, t_mid, front, front_t);
-  for (int c = 0; c < nwl; ++c) spectrum[c] = sl_resolve_layer(a[c], 1.0 - transparency, front[c], front_t[c]);
-  double rgb[3];
-  sl_cie_apply(r->to_rgb, nwl, spectrum, rgb);
-  for (int c = 0; c < SL_CHANNELS; ++c) img->rgba[4 * q + c] = (float)rgb[c];
-  img->rgba[4 * q + 3] = 1.0f - transparency;
-  img->transparency[q] = transparency;
-  const double coverage = 1.0 - transparency;
-  img->depth[q] = (float)sl_resolve_depth(a[nwl + 1], coverage, INFINITY);
-}
 
 int sl_renderer_background(const sl_renderer *r, const sl_camera *cam, sl_image *img, sl_error *err)
 {

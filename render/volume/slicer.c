@@ -5,6 +5,7 @@
  * The frame's geometry is slicing.c's, its tiles tiles.h's, the eye pass's batches eye_batch.h's. */
 #include "eye_batch.h"
 #include "light_kink.h"
+#include "resolve.h"
 #include "slicer.h"
 
 #include <math.h>
@@ -324,7 +325,7 @@ static inline __attribute__((always_inline)) void slicer_resolve(slicer_frame *f
   for (size_t q = 0; q < np; ++q) {
     const double *rq = ray + q * RAY_STRIDE;
     const double t_mid = sl_resolve_split(rq[5], h_center - h_o, rq[3], rq[4]);
-    sl__resolve_pixel(r, view, rq, t_mid, acc + q * acc_stride, img, q);
+    sl__resolve_pixel(r, nwl, view, rq, t_mid, acc + q * acc_stride, img, q);
   }
 }
 
