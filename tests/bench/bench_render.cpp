@@ -460,11 +460,14 @@ int main(int argc, char **argv)
   std::printf("ratio stormlight multiple/3 wl frame (512x512, 256 slices) / VTK frame: %.2f\n",
               frame_512_ms / 1e3 / vtk_best);
   std::printf("ratio light-volume camera move (eye pass only) / VTK frame: %.2f\n", lv_eye_ms / 1e3 / vtk_best);
-  const char *fast_names[3] = {"thin steps", "adaptive pixels", "thin steps and adaptive pixels"};
-  for (int k = 0; k < 3; ++k)
-    if (fast_eye_ms[k] > 0.0)
-      std::printf("ratio light-volume camera move with %s (optical depth %g, tolerance %g) / VTK frame: %.2f\n",
-                  fast_names[k], thin_depth, refine, fast_eye_ms[k] / 1e3 / vtk_best);
+  for (int k = 0; k < 3; ++k) {
+    if (!(fast_eye_ms[k] > 0.0)) continue;
+    char what[96];
+    if (k == 0) std::snprintf(what, sizeof what, "thin steps (optical depth %g)", thin_depth);
+    else if (k == 1) std::snprintf(what, sizeof what, "adaptive pixels (tolerance %g)", refine);
+    else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
+    std::printf("ratio light-volume camera move with %s / VTK frame: %.2f\n", what, fast_eye_ms[k] / 1e3 / vtk_best);
+  }
   sl_volume_free(&resampled);
   sl_storm_frame_free(&frame);
   return 0;
