@@ -1,5 +1,6 @@
 // bench_render [STORM.nc] [--grid N] [--repeat N] [--quick] [--only I,J,...] [--march-samples N]
 //              [--slices N] [--light-resolution N] [--termination T] [--thin-depth T] [--contention]
+//              [--alternate]
 // Times the CPU half-angle slicer: load, plan, light pass, eye pass, frame and EXR write, for the
 // low-albedo model and the multiple-scattering lighting at 3 and 16 wavelengths, at 512x512 with
 // 256 slices and 768x768 with 512 slices. With --grid N the storm is resampled (trilinearly) to
@@ -11,7 +12,8 @@
 // /tmp/bench_render.exr for 'stormlight compare'. --contention adds the 3-wavelength 512^2 frame
 // and the light volume's eye pass at 1 and 2 threads, idle and with one and two processes spinning.
 // --thin-depth sets the thin-step rows' optical depth (sl_scene.march_thin_depth, 0.05), --refine
-// the adaptive-pixel rows' tolerance (sl_scene.march_refine_tolerance, 0.02).
+// the adaptive-pixel rows' tolerance (sl_scene.march_refine_tolerance, 0.02). --alternate times
+// the camera move against VTK's frame frame by frame (camera_moves_alternated).
 #include <omp.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -178,6 +180,50 @@ void contention(const sl_scene &slicer, const sl_scene &light_volume, int repeat
   omp_set_num_threads(threads);
 }
 
+// The camera move as a user turning around the storm sees it against VTK's peer: the light
+// volume's eye pass (every pixel, and adaptive pixels at `refine`) and VTK's frame, alternated frame
+// by frame, each camera 0.5 degree around from the last, so that the VM's drift falls on all three
+// alike; medians and minima of `repeat` each, and the ratios of the medians.
+void camera_moves_alternated(const sl_scene &light_volume, double refine, int repeat, const double lo[3],
+                             const double hi[3], vtkRenderWindow *win, vtkCamera *vtk_camera)
+{
+  sl_error err{};
+  sl_scene adaptive = light_volume;
+  adaptive.march_refine_tolerance = refine;
+  sl_renderer *r[2] = {sl_renderer_create(&light_volume, &err), sl_renderer_create(&adaptive, &err)};
+  if (!r[0] || !r[1]) {
+    std::fprintf(stderr, "bench_render: %s\n", err.message);
+    std::exit(1);
+  }
+  sl_camera cam;
+  sl_camera_frame(lo, hi, 200.0, 12.0, 40.0, 512, 512, &cam);
+  sl_image img;
+  sl_image_alloc(&img, 512, 512, &err);
+  for (int m = 0; m < 2; ++m) sl_renderer_render(r[m], &cam, &img, nullptr, &err);  // the light volume's sweep
+  std::vector<double> t[3];  // every pixel, adaptive pixels, VTK
+  for (int k = 0; k < repeat; ++k) {
+    sl_camera_frame(lo, hi, 200.0 + 0.5 * (k + 1), 12.0, 40.0, 512, 512, &cam);
+    for (int m = 0; m < 2; ++m) {
+      sl_render_stats st{};
+      sl_renderer_render(r[m], &cam, &img, &st, &err);
+      t[m].push_back(st.eye_seconds);
+    }
+    vtk_camera->Azimuth(0.5);
+    const double t0 = sl::now_seconds();
+    win->Render();
+    t[2].push_back(sl::now_seconds() - t0);
+  }
+  double med[3], least[3];
+  for (int m = 0; m < 3; ++m) med[m] = median(t[m]), least[m] = *std::min_element(t[m].begin(), t[m].end());
+  std::printf("camera move alternated with VTK's frame, medians of %d (minima): every pixel %.3f s (%.3f), adaptive "
+              "pixels %g %.3f s (%.3f), VTK %.3f s (%.3f)\n",
+              repeat, med[0], least[0], refine, med[1], least[1], med[2], least[2]);
+  std::printf("ratio camera move / VTK frame, medians alternated: every pixel %.2f, adaptive pixels %g %.2f\n",
+              med[0] / med[2], refine, med[1] / med[2]);
+  sl_image_free(&img);
+  for (int m = 0; m < 2; ++m) sl_renderer_destroy(r[m]);
+}
+
 }  // namespace
 
 int main(int argc, char **argv)
@@ -185,13 +231,14 @@ int main(int argc, char **argv)
   std::string storm = "datasets/cumulonimbus.nc";
   int grid = 0, repeat = 3, march_samples = 0, light_resolution = 0, slices = 0;
   double termination = 1e-6, thin_depth = 0.05, refine = 0.02;
-  bool quick = false, busy = false;
+  bool quick = false, busy = false, alternate = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--grid") && i + 1 < argc) grid = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--contention")) busy = true;
+    else if (!std::strcmp(argv[i], "--alternate")) alternate = true;
     else if (!std::strcmp(argv[i], "--march-samples") && i + 1 < argc) march_samples = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--light-resolution") && i + 1 < argc) light_resolution = std::atoi(argv[++i]);
@@ -245,6 +292,21 @@ int main(int argc, char **argv)
                 sl::now_seconds() - t0);
     (s ? opt16 : opt3).reset(t);
   }
+
+  // The light-volume march's scene as its rows set it (3 wavelengths, sun only), at `samples` per cell.
+  auto light_volume_scene = [&](int samples) {
+    sl_scene s{};
+    s.volume = vol;
+    s.atmosphere = &atm3;
+    s.optics = opt3.get();
+    s.lighting = SL_LIGHTING_MULTIPLE;
+    s.termination_transparency = termination;
+    s.light_resolution = light_resolution;
+    s.light_volume = 1;
+    s.march_samples = samples;
+    sl_sun_direction(35.0, 240.0, s.sun_direction);
+    return s;
+  };
 
   struct Case {
     const char *name;
@@ -334,16 +396,7 @@ int main(int argc, char **argv)
   if (keep_marched.rgba) {
     // The march's own limit: 8 samples per cell on the same cameras (its last frame), against which
     // the light-volume row's samples per cell are an approximation.
-    sl_scene ref{};
-    ref.volume = vol;
-    ref.atmosphere = &atm3;
-    ref.optics = opt3.get();
-    ref.lighting = SL_LIGHTING_MULTIPLE;
-    ref.termination_transparency = termination;
-    ref.light_resolution = light_resolution;
-    ref.light_volume = 1;
-    ref.march_samples = 8;
-    sl_sun_direction(35.0, 240.0, ref.sun_direction);
+    const sl_scene ref = light_volume_scene(8);
     sl_image fine{};
     const Timing t = time_frames(ref, 512, repeat, &fine);
     sl_image_metrics im{};
@@ -468,6 +521,7 @@ int main(int argc, char **argv)
     else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
     std::printf("ratio light-volume camera move with %s / VTK frame: %.2f\n", what, fast_eye_ms[k] / 1e3 / vtk_best);
   }
+  if (alternate) camera_moves_alternated(light_volume_scene(march_samples), refine, repeat, blo, bhi, win, c);
   sl_volume_free(&resampled);
   sl_storm_frame_free(&frame);
   return 0;
