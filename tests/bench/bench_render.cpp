@@ -308,6 +308,15 @@ int main(int argc, char **argv)
     return s;
   };
 
+  // The faster marches' settings as their lines name them: thin steps, adaptive pixels, both.
+  auto fast_name = [&](int k) {
+    char what[96];
+    if (k == 0) std::snprintf(what, sizeof what, "thin steps (optical depth %g)", thin_depth);
+    else if (k == 1) std::snprintf(what, sizeof what, "adaptive pixels (tolerance %g)", refine);
+    else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
+    return std::string(what);
+  };
+
   struct Case {
     const char *name;
     sl_lighting lighting;
@@ -409,15 +418,12 @@ int main(int argc, char **argv)
   for (int k = 0; k < 3; ++k) {
     if (!keep_marched.rgba || !keep_fast[k].rgba) continue;
     // Against every step and pixel, on the same last camera.
-    char what[96];
-    if (k == 0) std::snprintf(what, sizeof what, "thin steps (optical depth %g)", thin_depth);
-    else if (k == 1) std::snprintf(what, sizeof what, "adaptive pixels (tolerance %g)", refine);
-    else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
+    const std::string what = fast_name(k);
     sl_image_metrics im{};
     sl_image_compare(&keep_fast[k], &keep_marched, &im, &err);
     std::printf("light volume, %s against every step and pixel (the last camera): relative RMSE %.3g, max |diff| "
                 "%.3g; eye pass %.3f s against %.3f s (%.2fx), samples %.1fM against %.1fM\n",
-                what, im.relative_rmse, im.max_abs_diff, fast_eye_ms[k] / 1e3, lv_eye_ms / 1e3,
+                what.c_str(), im.relative_rmse, im.max_abs_diff, fast_eye_ms[k] / 1e3, lv_eye_ms / 1e3,
                 lv_eye_ms / fast_eye_ms[k], 1e-6 * fast_samples[k], 1e-6 * lv_samples);
     sl_image_free(&keep_fast[k]);
   }
@@ -515,11 +521,8 @@ int main(int argc, char **argv)
   std::printf("ratio light-volume camera move (eye pass only) / VTK frame: %.2f\n", lv_eye_ms / 1e3 / vtk_best);
   for (int k = 0; k < 3; ++k) {
     if (!(fast_eye_ms[k] > 0.0)) continue;
-    char what[96];
-    if (k == 0) std::snprintf(what, sizeof what, "thin steps (optical depth %g)", thin_depth);
-    else if (k == 1) std::snprintf(what, sizeof what, "adaptive pixels (tolerance %g)", refine);
-    else std::snprintf(what, sizeof what, "thin steps %g and adaptive pixels %g", thin_depth, refine);
-    std::printf("ratio light-volume camera move with %s / VTK frame: %.2f\n", what, fast_eye_ms[k] / 1e3 / vtk_best);
+    const std::string what = fast_name(k);
+    std::printf("ratio light-volume camera move with %s / VTK frame: %.2f\n", what.c_str(), fast_eye_ms[k] / 1e3 / vtk_best);
   }
   if (alternate) camera_moves_alternated(light_volume_scene(march_samples), refine, repeat, blo, bhi, win, c);
   sl_volume_free(&resampled);
