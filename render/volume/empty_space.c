@@ -1,6 +1,6 @@
 /* Empty space: which 8^3 bricks of the lattice hold medium, each empty brick's distance to the
- * nearest occupied one, the walk that finds where a ray first meets medium, and the box around
- * the medium. Every pass of render/volume starts its rays and texels here. */
+ * nearest occupied one, the walk that finds where a ray first meets medium, the box around the
+ * medium, and each 2^3-cell block's distance to medium (the adaptive march's clear blocks). Every pass of render/volume starts its rays and texels here. */
 #include "renderer_internal.h"
 
 #include <math.h>
@@ -188,4 +188,47 @@ void sl_renderer_content_bounds(const sl_renderer *r, double lo[3], double hi[3]
 {
   memcpy(lo, r->clo, sizeof r->clo);
   memcpy(hi, r->chi, sizeof r->chi);
+}
+
+int sl__clear_blocks_build(sl_renderer *r, sl_error *err)
+{
+  /* A block of 2^3 lattice cells holds medium where any of its cells has a non-zero corner: a
+   * non-zero sample marks the blocks of the (up to 8) cells around it. Then each block's
+   * Chebyshev distance to the nearest such block, as the bricks' (sl__brick_empty_radius). */
+  const sl_volume *v = &r->shape;
+  const int nf = r->model.nf > 0 ? r->model.nf : 1;
+  const int n[3] = {v->nx, v->ny, v->nz};
+  int cells[3];
+  for (int a = 0; a < 3; ++a) {
+    cells[a] = n[a] > 1 ? n[a] - 1 : 1;
+    r->clear_blocks_n[a] = (cells[a] + 1) / 2;
+  }
+  const size_t blocks = (size_t)r->clear_blocks_n[0] * r->clear_blocks_n[1] * r->clear_blocks_n[2];
+  unsigned char *map = malloc(blocks);
+  if (!map) return sl_fail(err, SL_ERR_NOMEM, "renderer: out of memory");
+  memset(map, 1, blocks);
+  int lo[3], hi[3];
+  if (sl_volume_content_samples(v, lo, hi)) {
+    const long rows = sl_volume_box_rows(lo, hi);
+    for (long row = 0; row < rows; ++row) {
+      const size_t first = sl_volume_box_row(v, lo, hi, row);
+      const int j = lo[1] + (int)(row % (hi[1] - lo[1] + 1)), k = lo[2] + (int)(row / (hi[1] - lo[1] + 1));
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        if (!(sl__sample_total(r->fields + (first + (size_t)(i - lo[0])) * nf, nf) > 0.0f)) continue;
+        const int s[3] = {i, j, k};
+        int b_lo[3], b_hi[3]; /* the blocks of cells s - 1 and s, inside the lattice */
+        for (int a = 0; a < 3; ++a) {
+          const int c_lo = s[a] - 1 > 0 ? s[a] - 1 : 0, c_hi = s[a] < cells[a] - 1 ? s[a] : cells[a] - 1;
+          b_lo[a] = c_lo / 2, b_hi[a] = c_hi / 2;
+        }
+        for (int bz = b_lo[2]; bz <= b_hi[2]; ++bz)
+          for (int by = b_lo[1]; by <= b_hi[1]; ++by)
+            for (int bx = b_lo[0]; bx <= b_hi[0]; ++bx)
+              map[((size_t)bz * r->clear_blocks_n[1] + by) * r->clear_blocks_n[0] + bx] = 0;
+      }
+    }
+  }
+  sl__brick_empty_radius(r->clear_blocks_n, map);
+  r->clear_blocks = map;
+  return SL_OK;
 }

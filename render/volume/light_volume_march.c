@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "clear_margin.h"
 #include "light_volume.h"
 #include "march_phases.h"
 #include "pixel_refine.h"
@@ -82,8 +83,9 @@ static inline __attribute__((always_inline)) void light_volume_fetch(const sl_re
 /* Distance along d from x to where the ray leaves the cube of empty bricks around x's 8^3 brick
  * (every brick less than its empty radius from it: no trilinear footprint in them holds
  * extinction, so every sample inside is exactly zero); -1 when x's brick holds something. The
- * march jumps the cube instead of stepping through it. */
-static double empty_brick_exit(const sl_renderer *r, const double x[3], const double d[3])
+ * march jumps the cube instead of stepping through it. With `clearance`, also x's distance in
+ * cells to the cube's faces inside the lattice, beyond which medium may lie. */
+static double empty_brick_exit(const sl_renderer *r, const double x[3], const double d[3], double *clearance)
 {
   const sl_grid_view *g = &r->lattice;
   int b[3];
@@ -91,18 +93,23 @@ static double empty_brick_exit(const sl_renderer *r, const double x[3], const do
   sl__lattice_cell(g, x, b, f);
   const int radius = sl__brick_radius(r, b);
   if (!radius) return -1.0;
-  double best = INFINITY;
+  double best = INFINITY, inside = INFINITY;
   for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0) continue;
     /* The cube's cells are [8 lo, 8 hi + 8) in lattice units; where it holds the first or the
      * last brick it reaches the box's face (the clamped points). */
     const int lo = b[a] / 8 - (radius - 1), hi = b[a] / 8 + (radius - 1);
     const double upper = hi >= sl__last_brick(g, a) ? g->hi[a] : g->origin[a] + 8.0 * (hi + 1) / g->inv_spacing[a];
     const double lower = lo <= 0 ? g->lo[a] : g->origin[a] + 8.0 * lo / g->inv_spacing[a];
+    if (clearance) {
+      if (lo > 0) inside = fmin(inside, (x[a] - lower) * g->inv_spacing[a]);
+      if (hi < sl__last_brick(g, a)) inside = fmin(inside, (upper - x[a]) * g->inv_spacing[a]);
+    }
+    if (d[a] == 0.0) continue;
     const double face = d[a] > 0.0 ? upper : lower;
     const double t = (face - x[a]) / d[a];
     if (t < best) best = t;
   }
+  if (clearance) *clearance = inside;
   return best > 0.0 ? best : 0.0;
 }
 
@@ -116,6 +123,7 @@ typedef struct march_frame {
   const sl_phase_table *grid_table;
   double fwd[3], right[3], up[3];
   double tan_half, aspect, h_center, f_o;
+  double t_far; /* the camera's distance to the content box's farthest corner */
   sl__refine *refine; /* adaptive refinement (sl_scene.march_refine_tolerance), or NULL */
   size_t count;       /* the length of refine's list, shared by the threads */
   long samples;
@@ -146,6 +154,8 @@ typedef struct march_batch {
   double carried_t; /* where the previous batch's last segment ended (NaN: none) */
   int done_end;     /* the step index where the last step the batches took ended (-1: none) */
   int pending;      /* steps found and fetched that the last batch had no room for: the next's first */
+  sl__clear_margin margin; /* the ray's clearance from medium (clear_margin.h), while `track` */
+  int track;
 } march_batch;
 
 /* The longest step, in steps of dt, that the march may take from step s (sl_scene.march_thin_depth):
@@ -214,6 +224,40 @@ static inline __attribute__((always_inline)) double march_thick_step(const sl_re
   return depth;
 }
 
+/* The clearance in cells from x to any medium that its 2^3-cell block guarantees
+ * (r->clear_blocks): the block's distance in blocks to one holding medium, less its own width. */
+static inline __attribute__((always_inline)) double march_block_clearance(const sl_renderer *r, const double x[3])
+{
+  int i0[3];
+  double f[3];
+  sl__lattice_cell(&r->lattice, x, i0, f);
+  const int *n = r->clear_blocks_n;
+  return 2.0 * (r->clear_blocks[((size_t)(i0[2] / 2) * n[1] + i0[1] / 2) * n[0] + i0[0] / 2] - 1);
+}
+
+/* The ray's clearance at a step tried at x = o + t d in an occupied brick. */
+static inline __attribute__((always_inline)) void march_track_step(const sl_renderer *r, const double x[3], double t,
+                                                                   sl__clear_margin *m)
+{
+  sl__clear_margin_point(m, t, march_block_clearance(r, x), m->rate);
+}
+
+/* The ray's clearance across a jump from x = o + t d over a cube of empty bricks `exit` long, whose
+ * faces inside the lattice lie `cube` cells from x: at x, the better of the cube's and the block's
+ * (the cube's falls no faster than to zero at the exit, a concave function along the chord), and
+ * at the exit the block's there. */
+static inline __attribute__((always_inline)) void march_track_jump(const sl_renderer *r, const double o[3],
+                                                                   const double d[3], double t, const double x[3],
+                                                                   double cube, double exit, sl__clear_margin *m)
+{
+  const double block = march_block_clearance(r, x);
+  if (cube >= block) sl__clear_margin_point(m, t, cube, exit > 0.0 ? cube / exit : m->rate);
+  else sl__clear_margin_point(m, t, block, m->rate);
+  const double te = t + exit;
+  const double xe[3] = {o[0] + te * d[0], o[1] + te * d[1], o[2] + te * d[2]};
+  sl__clear_margin_point(m, te, march_block_clearance(r, xe), m->rate);
+}
+
 /* The optical depth of the ray's step `s` (one of dt) by its middle's extinction: 0 past the last. */
 static inline __attribute__((always_inline)) double march_step_depth(const sl_renderer *r, const int nf,
                                                                      const double o[3], const double d[3],
@@ -251,14 +295,18 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     const double ta = t0 + *s * dt, tm = 0.5 * (ta + sl_march_step_end(t0, dt, t1, *s + len, nsteps));
     const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
     (*samples)++;
+    const int track = b->track && b->margin.ratio > 0.0;
     if (sl__field_cell_at(r, nf, x, 1, &b->cell[cnt])) {
+      if (track) march_track_step(r, x, tm, &b->margin);
       b->len[cnt] = len;
       b->step[cnt++] = *s;
       *s += len;
       continue;
     }
     /* Outside the cell lattice's box (in an occupied brick's clamp) every field is zero. */
-    const double exit = empty_brick_exit(r, x, d);
+    double cube;
+    const double exit = empty_brick_exit(r, x, d, track ? &cube : NULL);
+    if (track && exit >= 0.0) march_track_jump(r, o, d, tm, x, cube, exit, &b->margin);
     const int next = exit >= 0.0 ? (int)ceil((tm + exit - t0) / dt - 0.5) : *s + 1;
     *s = next > *s ? next : *s + 1;
   }
@@ -500,6 +548,34 @@ static inline __attribute__((always_inline)) void resolve_refined_pixel(const ma
   resolve_march_pixel(f, nwl, q, d, t0, t1, a);
 }
 
+/* Pixel q's ray marched into the refinement's accumulator, and its clearance ratio from medium
+ * (clear_margin.h) into rf->clear[q] where it met none (0: no bound; also where it misses the box,
+ * as the medium may reach the box's faces). */
+static inline __attribute__((always_inline)) void march_refined_pixel(const march_frame *f, const int nf,
+                                                                      const int nwl, const sl__sun_lane *sun_lane,
+                                                                      size_t q, march_batch *b, long *samples)
+{
+  sl__refine *rf = f->refine;
+  const sl_renderer *r = f->r;
+  double d[3], t0, t1, exit = 0.0;
+  int hard;
+  const int hit = pixel_span(f, q, d, &t0, &t1, &hard);
+  b->track = hit && !hard;
+  if (b->track) {
+    const double *inv = r->lattice.inv_spacing;
+    double rate = 0.0, entry;
+    for (int a = 0; a < 3; ++a) rate = fmax(rate, fabs(d[a]) * inv[a]);
+    sl__clear_box_rates(r->clo, r->chi, f->cam->position, d, inv, &entry, &exit);
+    sl__clear_margin_begin(&b->margin, rate, t0, entry);
+  }
+  float *a = rf->acc + q * rf->channels;
+  march_pixel(f, nf, nwl, sun_lane, d, t0, t1, hit, b, a, samples);
+  /* A little low, so that rounding to float never raises it. */
+  rf->clear[q] = b->track && a[nwl] == 1.0f ? (float)(0.999 * sl__clear_margin_end(&b->margin, t1, exit, f->t_far))
+                                            : 0.0f;
+  b->track = 0;
+}
+
 /* The march with adaptive refinement (pixel_refine.h): the rays of each list, shared among the
  * threads, then the next finer list, then the fill and the resolve. Three or four barriers a frame,
  * not one per slice. */
@@ -525,13 +601,7 @@ static inline __attribute__((always_inline)) void march_pixels_refined(march_fra
   f->count = sl__refine_first(rf);
   while (f->count) {
 #pragma omp for schedule(dynamic, 16)
-    for (size_t i = 0; i < f->count; ++i) {
-      const size_t q = (size_t)rf->list[i];
-      double d[3], t0, t1;
-      int hard;
-      const int hit = pixel_span(f, q, d, &t0, &t1, &hard);
-      march_pixel(f, nf, nwl, sun_lane, d, t0, t1, hit, b, rf->acc + q * nc, samples);
-    }
+    for (size_t i = 0; i < f->count; ++i) march_refined_pixel(f, nf, nwl, sun_lane, (size_t)rf->list[i], b, samples);
 #pragma omp single
     f->count = sl__refine_next(rf);
   }
@@ -550,6 +620,7 @@ static inline __attribute__((always_inline)) void march_pixels(march_frame *f, c
   const size_t np = (size_t)f->img->width * f->img->height;
   long samples = 0;
   march_batch batch; /* this thread's */
+  batch.track = 0;
   if (f->refine) march_pixels_refined(f, nf, nwl, &sun_lane, &batch, &samples);
   else {
 #pragma omp for schedule(dynamic, 64) nowait
@@ -611,9 +682,25 @@ int sl__render_with_light_volume(sl_renderer *r, const sl_camera *cam, sl_image 
   march_frame f = {.r = r, .cam = cam, .img = img, .view = &view, .suntab = suntab, .grid_table = grid_table,
                    .tan_half = tan_half, .aspect = aspect, .h_center = h_center, .f_o = f_o};
   for (int a = 0; a < 3; ++a) f.fwd[a] = fwd[a], f.right[a] = right[a], f.up[a] = up[a];
+  for (int k = 0; k < 8; ++k) {
+    const double corner[3] = {k & 1 ? r->chi[0] : r->clo[0], k & 2 ? r->chi[1] : r->clo[1], k & 4 ? r->chi[2] : r->clo[2]};
+    const double to[3] = {corner[0] - o[0], corner[1] - o[1], corner[2] - o[2]};
+    f.t_far = fmax(f.t_far, sqrt(sl_dot3(to, to)));
+  }
   sl__refine refine;
   if (sc->march_refine_tolerance > 0.0) {
-    if (!sl__refine_init(&refine, img->width, img->height, m->nwl + 2, m->nwl, sc->march_refine_tolerance)) {
+    if (!r->clear_blocks && sl__clear_blocks_build(r, err)) {
+      free(suntab);
+      return err->code;
+    }
+    /* A pixel's unit ray lies within pitch / sqrt 2 of its nearest lattice ray per pixel of the
+     * lattice's spacing (rays through an image plane at distance 1, normalised: a contraction),
+     * so at t within that times t times the most cells per unit length (clear_margin.h). */
+    const double pitch = 2.0 * tan_half / img->height;
+    double cells_per_length = 0.0;
+    for (int a = 0; a < 3; ++a) cells_per_length = fmax(cells_per_length, r->lattice.inv_spacing[a]);
+    if (!sl__refine_init(&refine, img->width, img->height, m->nwl + 2, m->nwl, sc->march_refine_tolerance,
+                         pitch / sqrt(2.0) * cells_per_length)) {
       free(suntab);
       return sl_fail(err, SL_ERR_NOMEM, "render: out of memory");
     }

@@ -10,11 +10,12 @@ enum refine_state { BLOCK_INACTIVE = 0, BLOCK_SMOOTH, BLOCK_SPLITS };
 static int blocks_across(const sl__refine *f, int size) { return f->block_x / size; }
 static int blocks_down(const sl__refine *f, int size) { return f->block_y / size; }
 
-int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance)
+int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance,
+                    double clear_spread)
 {
   memset(f, 0, sizeof *f);
   f->width = width, f->height = height, f->channels = channels;
-  f->transparency = transparency, f->tolerance = tolerance;
+  f->transparency = transparency, f->tolerance = tolerance, f->clear_spread = clear_spread;
   /* The blocked region's last row and column are lattice points; the strips beyond, narrower than
    * a block, are marched. An image smaller than one block is marched whole. */
   f->block_x = (width - 1) / SL__REFINE_TOP * SL__REFINE_TOP;
@@ -24,8 +25,9 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
   f->acc = calloc(np * channels, sizeof *f->acc);
   f->marched = calloc(np, 1);
   f->hard = calloc(np, 1);
+  f->clear = calloc(np, sizeof *f->clear);
   f->list = malloc(np * sizeof *f->list);
-  int ok = f->acc && f->marched && f->hard && f->list;
+  int ok = f->acc && f->marched && f->hard && f->clear && f->list;
   for (int l = 0; l < SL__REFINE_LEVELS && ok && f->block_x > 0; ++l) {
     const int size = SL__REFINE_TOP >> l;
     f->state[l] = calloc((size_t)blocks_across(f, size) * blocks_down(f, size), 1);
@@ -37,7 +39,7 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
 
 void sl__refine_free(sl__refine *f)
 {
-  free(f->acc), free(f->marched), free(f->hard), free(f->list);
+  free(f->acc), free(f->marched), free(f->hard), free(f->clear), free(f->list);
   for (int l = 0; l < SL__REFINE_LEVELS; ++l) free(f->state[l]);
   memset(f, 0, sizeof *f);
 }
@@ -76,12 +78,30 @@ static int point_agrees(const sl__refine *f, int k, float marched, float predict
   return diff <= tol * fmaxf(fabsf(marched), fabsf(predicted));
 }
 
-/* The block of `size` at (x0, y0) is smooth: its four edge midpoints and its centre agree with
- * the bilinear interpolation of its corners, every one of the nine met some medium (nine clear rays
- * can straddle a small cloud), and no opaque surface cuts a ray in it. */
+/* Every one of the nine rays of the block of `size` at (x0, y0) met no medium and kept far enough
+ * from any that the rays between them meet none either (pixel_refine.h): each pixel of the block
+ * would march clear, as its nine did. */
+static int block_clear(const sl__refine *f, int x0, int y0, int size)
+{
+  const int h = size / 2;
+  const double need = f->clear_spread * h;
+  for (int y = y0; y <= y0 + size; y += h)
+    for (int x = x0; x <= x0 + size; x += h)
+      if (!(f->clear[(size_t)y * f->width + x] > need)) return 0;
+  return 1;
+}
+
+/* The block of `size` at (x0, y0) is smooth: no opaque surface cuts a ray in it, and either its
+ * rays all march clear (block_clear) or its four edge midpoints and its centre agree with the
+ * bilinear interpolation of its corners and every one of the nine met some medium (nine clear rays
+ * can straddle a small cloud). */
 static int block_smooth(const sl__refine *f, int x0, int y0, int size)
 {
   const int h = size / 2;
+  for (int y = y0; y <= y0 + size; ++y)
+    for (int x = x0; x <= x0 + size; ++x)
+      if (f->hard[(size_t)y * f->width + x]) return 0;
+  if (block_clear(f, x0, y0, size)) return 1;
   const float *c00 = acc_at(f, x0, y0), *c10 = acc_at(f, x0 + size, y0);
   const float *c01 = acc_at(f, x0, y0 + size), *c11 = acc_at(f, x0 + size, y0 + size);
   const float *mid[5] = {acc_at(f, x0 + h, y0), acc_at(f, x0, y0 + h), acc_at(f, x0 + h, y0 + h),
@@ -94,9 +114,6 @@ static int block_smooth(const sl__refine *f, int x0, int y0, int size)
       if (!point_agrees(f, k, mid[i][k], predicted[i])) return 0;
     if (k == f->transparency && !(c00[k] < 1.0f && c10[k] < 1.0f && c01[k] < 1.0f && c11[k] < 1.0f)) return 0;
   }
-  for (int y = y0; y <= y0 + size; ++y)
-    for (int x = x0; x <= x0 + size; ++x)
-      if (f->hard[(size_t)y * f->width + x]) return 0;
   return 1;
 }
 

@@ -5,7 +5,9 @@
  * smooth: its pixels take their accumulators by bilinear interpolation of the nine (a quarter of
  * the error the test measured, where the image is smooth). Elsewhere the block splits in four,
  * their halfway points are marched and judged alike, and a block of 4 that splits has every pixel
- * marched. What is interpolated is the march's accumulator (radiance per wavelength,
+ * marched. A block whose nine rays met no medium splits too (nine clear rays can straddle a small
+ * cloud), unless each ray kept far enough from any medium (clear_margin.h) that every ray between
+ * them is clear as well. What is interpolated is the march's accumulator (radiance per wavelength,
  * transparency, depth numerator); each pixel's own ray still resolves it against the air in front
  * (sl__resolve_pixel), so the sky and the aerial perspective stay exact. Which rays are marched
  * depends only on marched values: the image does not depend on the thread count. */
@@ -26,14 +28,20 @@ typedef struct sl__refine {
   unsigned char *marched;          /* per pixel: 1 once its ray is in the list to march */
   unsigned char *hard;             /* per pixel, set by the caller: 1 where the ray meets an
                                       opaque surface (a block holding one never interpolates) */
+  float *clear;                    /* per marched pixel, set by the caller: its ray's clearance
+                                      ratio where it met no medium (clear_margin.h), else 0 */
+  double clear_spread;             /* the clearance ratio that rays a pixel apart need */
   unsigned char *state[SL__REFINE_LEVELS]; /* per block of each size: refine_state */
   int *list;                       /* the pixels to march next */
   size_t count;
   int size;                        /* the block size judged next */
 } sl__refine;
 
-/* Room for a width x height image with `channels` floats per pixel; 0 when out of memory. */
-int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance);
+/* Room for a width x height image with `channels` floats per pixel; 0 when out of memory. A block
+ * whose nine rays met no medium is smooth where every one's clearance ratio exceeds clear_spread
+ * times their spacing in pixels: the rays between them then meet none either. */
+int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance,
+                    double clear_spread);
 void sl__refine_free(sl__refine *f);
 /* The first list: every SL__REFINE_TOP/2-th pixel of the blocked region and every pixel of the
  * strips beyond it (narrower than a block). Returns the list's length. */

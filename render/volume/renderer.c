@@ -189,6 +189,7 @@ void sl_renderer_destroy(sl_renderer *r)
   sl__ground_free(&r->ground);
   free(r->empty_radius);
   free(r->brick_beta_max);
+  free(r->clear_blocks);
   free(r->texel_spans.u_in), free(r->texel_spans.u_out), free(r->texel_spans.first), free(r->texel_spans.last);
   free(r->texel_spans.u_entry);
   free(r);

@@ -63,6 +63,10 @@ struct sl_renderer {
   float *brick_beta_max;    /* per 8^3 brick: the largest total extinction any trilinear cell with
                                its lower corner in it reads (the largest of its corners') */
   int bricks[3];
+  unsigned char *clear_blocks; /* per 2^3 block of lattice cells: its Chebyshev distance in blocks to
+                                  the nearest block with a cell holding medium (0 there, at most 255);
+                                  built with the first refined march (sl__clear_blocks_build) */
+  int clear_blocks_n[3];
   float *light_volume;      /* cached light state (I per wavelength, n) per grid sample, or NULL */
   double light_volume_seconds;
   sl__sky_light sky;        /* the skylight's diffuse radiance (scene.skylight), for the current sun */
@@ -150,6 +154,9 @@ static inline int sl__brick_occupied(const sl_renderer *r, const int i0[3]) { re
 /* The brick occupancy of the total extinction inside the content box and each empty brick's radius
  * (r->bricks, r->empty_radius; empty_space.c). */
 int sl__bricks_build(sl_renderer *r, sl_error *err);
+
+/* r->clear_blocks, for the adaptive refinement's clear blocks (clear_margin.h). */
+int sl__clear_blocks_build(sl_renderer *r, sl_error *err);
 
 /* The content bounds (r->clo, r->chi) from the box of samples that hold medium, medium_lo ..
  * medium_hi (medium_hi[0] < 0: none, the whole box): one cell of margin around it, within the grid's

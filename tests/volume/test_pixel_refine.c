@@ -72,7 +72,7 @@ static double worst_fill_error(const sl__refine *rf, const field *fd)
 int main(void)
 {
   sl__refine rf;
-  CHECK(sl__refine_init(&rf, W, H, NC, 1, 1e-4));
+  CHECK(sl__refine_init(&rf, W, H, NC, 1, 1e-4, 0.0));
   CHECK_MSG(rf.block_x == 64 && rf.block_y == 40, "67 x 45: blocks over [0, 64] x [0, 40], strips beyond");
 
   /* A bilinear field: every block's halfway points lie on its corners' interpolation. */
@@ -95,7 +95,7 @@ int main(void)
                {0.005, 2},  /* S 8: 0.008 at least, splits; S 4: 0.004 at most, smooth */
                {0.001, 1}}; /* S 4: edges 0.001..0.002, centre 0.002..0.004: splits */
   for (int c = 0; c < 3; ++c) {
-    CHECK(sl__refine_init(&rf, W, H, NC, 1, cases[c].tol));
+    CHECK(sl__refine_init(&rf, W, H, NC, 1, cases[c].tol, 0.0));
     n = run(&rf, &bowl);
     const double h = cases[c].step, err = worst_fill_error(&rf, &bowl);
     printf("paraboloid, tolerance %g: %zu marched (lattice of %d: %zu), worst fill error %.3e (bound a h^2/2 = "
@@ -108,7 +108,7 @@ int main(void)
   /* A clear ray at (16, 16) and a NaN at (44, 28): every block holding one splits down to its
    * pixels; an opaque surface at (13, 10) likewise. */
   field marks = {.a = 0, .clear_x = 16, .clear_y = 16, .nan_x = 44, .nan_y = 28};
-  CHECK(sl__refine_init(&rf, W, H, NC, 1, 1e-4));
+  CHECK(sl__refine_init(&rf, W, H, NC, 1, 1e-4, 0.0));
   rf.hard[10 * W + 13] = 1;
   run(&rf, &marks);
   int kept = 1;
