@@ -49,8 +49,6 @@ static inline void sl__clear_margin_begin(sl__clear_margin *m, double rate, doub
   m->started = 0;
 }
 
-static inline void sl__clear_margin_fail(sl__clear_margin *m) { m->ratio = 0.0; }
-
 /* A checkpoint at t (after the last) where C >= v, from which the bound falls by `slope` per unit
  * of t (at most rate). */
 static inline void sl__clear_margin_point(sl__clear_margin *m, double t, double v, double slope)

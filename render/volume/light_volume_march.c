@@ -224,22 +224,22 @@ static inline __attribute__((always_inline)) double march_thick_step(const sl_re
   return depth;
 }
 
-/* The clearance in cells from x to any medium that its 2^3-cell block guarantees
- * (r->clear_blocks): the block's distance in blocks to one holding medium, less its own width. */
+/* The clearance in cells from any point of lattice cell i0 to any medium that the cell's 2^3-cell
+ * block guarantees (r->clear_blocks): the block's distance in blocks to one holding medium, less
+ * its own width. */
+static inline __attribute__((always_inline)) double march_cell_clearance(const sl_renderer *r, const int i0[3])
+{
+  const int *n = r->clear_blocks_n;
+  return 2.0 * (r->clear_blocks[((size_t)(i0[2] / 2) * n[1] + i0[1] / 2) * n[0] + i0[0] / 2] - 1);
+}
+
+/* The same at point x (the lattice rule of sl__lattice_cell). */
 static inline __attribute__((always_inline)) double march_block_clearance(const sl_renderer *r, const double x[3])
 {
   int i0[3];
   double f[3];
   sl__lattice_cell(&r->lattice, x, i0, f);
-  const int *n = r->clear_blocks_n;
-  return 2.0 * (r->clear_blocks[((size_t)(i0[2] / 2) * n[1] + i0[1] / 2) * n[0] + i0[0] / 2] - 1);
-}
-
-/* The ray's clearance at a step tried at x = o + t d in an occupied brick. */
-static inline __attribute__((always_inline)) void march_track_step(const sl_renderer *r, const double x[3], double t,
-                                                                   sl__clear_margin *m)
-{
-  sl__clear_margin_point(m, t, march_block_clearance(r, x), m->rate);
+  return march_cell_clearance(r, i0);
 }
 
 /* The ray's clearance across a jump from x = o + t d over a cube of empty bricks `exit` long, whose
@@ -296,8 +296,12 @@ static inline __attribute__((always_inline)) void march_batch_steps(const sl_ren
     const double x[3] = {o[0] + tm * d[0], o[1] + tm * d[1], o[2] + tm * d[2]};
     (*samples)++;
     const int track = b->track && b->margin.ratio > 0.0;
-    if (sl__field_cell_at(r, nf, x, 1, &b->cell[cnt])) {
-      if (track) march_track_step(r, x, tm, &b->margin);
+    int i0[3];
+    double f[3];
+    const int in_box = sl__in_lattice_box(&r->lattice, x);
+    if (in_box) sl__lattice_cell(&r->lattice, x, i0, f);
+    if (in_box && sl__field_cell_of(r, nf, i0, f, 1, &b->cell[cnt])) {
+      if (track) sl__clear_margin_point(&b->margin, tm, march_cell_clearance(r, i0), b->margin.rate);
       b->len[cnt] = len;
       b->step[cnt++] = *s;
       *s += len;

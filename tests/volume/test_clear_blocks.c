@@ -14,6 +14,7 @@
 #include "homogeneous_reference.h"
 #include "pixel_refine.h"
 #include "sl_testing.h"
+#include "sl_vec3.h"
 #include "sl_volume.h"
 
 enum { CELLS = 12 };
@@ -45,28 +46,12 @@ static double uniform(unsigned *s)
   return (*s >> 8) / 16777216.0;
 }
 
-static int ray_box(const double lo[3], const double hi[3], const double o[3], const double d[3], double *t0, double *t1)
-{
-  *t0 = 0.0, *t1 = INFINITY;
-  for (int a = 0; a < 3; ++a) {
-    const double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
-    *t0 = fmax(*t0, fmin(ta, tb)), *t1 = fmin(*t1, fmax(ta, tb));
-  }
-  return *t1 > *t0;
-}
-
-static void normalize(double d[3])
-{
-  const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  for (int a = 0; a < 3; ++a) d[a] /= n;
-}
-
 /* Whether a ray at `angle` from d (8 directions round it, 2000 points each over [0, t_far], finer
  * than a cell) enters a medium cell. */
 static int neighbours_meet_medium(const medium *m, const double o[3], const double d[3], double angle, double t_far)
 {
   double e1[3] = {-d[1], d[0], 0.0}, e2[3];
-  normalize(e1);
+  sl_normalize3(e1);
   e2[0] = d[1] * e1[2] - d[2] * e1[1], e2[1] = d[2] * e1[0] - d[0] * e1[2], e2[2] = d[0] * e1[1] - d[1] * e1[0];
   for (int k = 0; k < 8; ++k) {
     const double phi = 2.0 * M_PI * k / 8.0;
@@ -106,8 +91,8 @@ static void test_bound_against_brute_force(void)
       double target[3], d[3], t0, t1;
       for (int a = 0; a < 3; ++a) target[a] = m.lo[a] + (m.hi[a] - m.lo[a]) * uniform(&seed);
       for (int a = 0; a < 3; ++a) d[a] = target[a] - o[a];
-      normalize(d);
-      if (!ray_box(m.lo, m.hi, o, d, &t0, &t1)) continue;
+      sl_normalize3(d);
+      if (!sl_ray_box(m.lo, m.hi, o, d, &t0, &t1) || t0 < 0.0) continue; /* the camera lies outside */
       double rate = 0.0, entry, exit;
       for (int a = 0; a < 3; ++a) rate = fmax(rate, fabs(d[a]) * m.inv[a]);
       sl__clear_box_rates(m.lo, m.hi, o, d, m.inv, &entry, &exit);
