@@ -372,7 +372,7 @@ static inline double sl__total_extinction(const sl_renderer *r, const double x[3
  * Gauss-Legendre rule integrates exactly, so the segment is cut where it crosses them and each
  * piece is taken by that rule (which reads no end point: a segment ending on the box's face, where
  * the medium stops, is not read there). Exact where the segment crosses fewer than
- * SL__SEGMENT_PIECES pieces; past that, equal pieces. A cloud's surface where its density ramps up
+ * SL__SEGMENT_PIECES pieces, each piece's cell found once; past that, equal pieces. A cloud's surface where its density ramps up
  * from zero within a cell is then integrated wherever it lies along the segment, as a single
  * midpoint is not. */
 static inline double sl__segment_optical_depth(const sl_renderer *r, const int nf, const double a_in[3],
@@ -396,7 +396,8 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const int n
     const double lo = fmin(ua, ub), hi = fmax(ua, ub);
     for (double k = floor(lo) + 1.0; k < hi && n < 3 * SL__SEGMENT_PIECES; k += 1.0) cut[n++] = (k - ua) / (ub - ua);
   }
-  if (n > SL__SEGMENT_PIECES) {
+  const int equal_pieces = n > SL__SEGMENT_PIECES;
+  if (equal_pieces) {
     n = SL__SEGMENT_PIECES;
     for (int i = 0; i < n; ++i) cut[i] = (double)i / n;
   }
@@ -412,10 +413,37 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const int n
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const double l0 = cut[i], l1 = cut[i + 1];
+    if (equal_pieces || nf <= 1) {
+      for (int k = 0; k < 2; ++k) {
+        const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
+        const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
+        sum += 0.5 * (l1 - l0) * sl__total_extinction_n(r, nf, x);
+      }
+      continue;
+    }
+    /* A piece between node planes lies in one lattice cell: found once, at its middle (in the box,
+     * as both ends are), its brick tested once, and each Gauss point's fractions taken in it as
+     * sl__lattice_cell takes them. */
+    const double lm = 0.5 * (l0 + l1);
+    const double xm[3] = {a[0] + lm * (b[0] - a[0]), a[1] + lm * (b[1] - a[1]), a[2] + lm * (b[2] - a[2])};
+    int i0[3];
+    double fm[3];
+    sl__lattice_cell(g, xm, i0, fm);
+    sl__field_cell cell;
+    if (!sl__field_cell_of(r, nf, i0, fm, 0, &cell)) continue;
     for (int k = 0; k < 2; ++k) {
-      const double l = 0.5 * (l0 + l1) + (k ? node : -node) * (l1 - l0);
-      const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
-      sum += 0.5 * (l1 - l0) * sl__total_extinction_n(r, nf, x);
+      const double l = lm + (k ? node : -node) * (l1 - l0);
+      for (int ax = 0; ax < 3; ++ax) {
+        const double umax = (double)(g->n[ax] - 1);
+        double u = (a[ax] + l * (b[ax] - a[ax]) - g->origin[ax]) * g->inv_spacing[ax];
+        u = u < 0.0 ? 0.0 : u > umax ? umax : u;
+        cell.f[ax] = g->n[ax] > 1 ? (float)(u - i0[ax]) : 0.0f;
+      }
+      float v[SL__FIELD_LANES];
+      sl__field_fetch(r, nf, &cell, v);
+      double total = 0.0;
+      for (int j = 0; j < nf; ++j) total += v[j];
+      sum += 0.5 * (l1 - l0) * total;
     }
   }
   return sum * len;
