@@ -27,7 +27,8 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
   f->hard = calloc(np, 1);
   f->clear = calloc(np, sizeof *f->clear);
   f->list = malloc(np * sizeof *f->list);
-  int ok = f->acc && f->marched && f->hard && f->clear && f->list;
+  f->scale = calloc((size_t)channels, sizeof *f->scale);
+  int ok = f->acc && f->marched && f->hard && f->clear && f->list && f->scale;
   for (int l = 0; l < SL__REFINE_LEVELS && ok && f->block_x > 0; ++l) {
     const int size = SL__REFINE_TOP >> l;
     f->state[l] = calloc((size_t)blocks_across(f, size) * blocks_down(f, size), 1);
@@ -39,7 +40,7 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
 
 void sl__refine_free(sl__refine *f)
 {
-  free(f->acc), free(f->marched), free(f->hard), free(f->clear), free(f->list);
+  free(f->acc), free(f->marched), free(f->hard), free(f->clear), free(f->list), free(f->scale);
   for (int l = 0; l < SL__REFINE_LEVELS; ++l) free(f->state[l]);
   memset(f, 0, sizeof *f);
 }
@@ -70,12 +71,35 @@ static const float *acc_at(const sl__refine *f, int x, int y)
 }
 
 /* One channel of a marched point against its prediction from the corners: the transparency by
- * absolute difference, the others relative to the larger magnitude. NaN never agrees. */
+ * absolute difference, the others relative to the largest of their magnitudes and the frame's
+ * scale. NaN never agrees. */
 static int point_agrees(const sl__refine *f, int k, float marched, float predicted)
 {
   const float tol = (float)f->tolerance, diff = fabsf(marched - predicted);
   if (k == f->transparency) return marched < 1.0f && diff <= tol;
-  return diff <= tol * fmaxf(fabsf(marched), fabsf(predicted));
+  return diff <= tol * fmaxf(fmaxf(fabsf(marched), fabsf(predicted)), f->scale[k]);
+}
+
+/* The frame's scale per channel from the first list's marched rays: the mean magnitude over those
+ * that met medium (transparency below 1), summed in the list's order, so that it does not depend
+ * on the thread count. A NaN among them makes the scale NaN, which fmaxf passes over: that
+ * channel is then compared as without a scale. */
+static void frame_scale(sl__refine *f)
+{
+  const int nc = f->channels;
+  size_t held = 0;
+  for (int k = 0; k < nc; ++k) f->scale[k] = 0.0f;
+  double *sum = calloc((size_t)nc, sizeof *sum);
+  if (!sum) return; /* no scale: every channel relative to its own magnitude */
+  for (size_t i = 0; i < f->count; ++i) {
+    const float *a = f->acc + (size_t)f->list[i] * nc;
+    if (!(a[f->transparency] < 1.0f)) continue;
+    held++;
+    for (int k = 0; k < nc; ++k) sum[k] += fabsf(a[k]);
+  }
+  for (int k = 0; k < nc; ++k)
+    if (held && k != f->transparency) f->scale[k] = (float)(sum[k] / (double)held);
+  free(sum);
 }
 
 /* Every one of the nine rays of the block of `size` at (x0, y0) met no medium and kept far enough
@@ -119,6 +143,7 @@ static int block_smooth(const sl__refine *f, int x0, int y0, int size)
 
 size_t sl__refine_next(sl__refine *f)
 {
+  if (f->size == SL__REFINE_TOP) frame_scale(f);
   f->count = 0;
   if (f->size < SL__REFINE_TOP >> (SL__REFINE_LEVELS - 1)) return 0;
   int level = 0;

@@ -5,8 +5,13 @@
  * smooth: its pixels take their accumulators by bilinear interpolation of the nine (a quarter of
  * the error the test measured, where the image is smooth). Elsewhere the block splits in four,
  * their halfway points are marched and judged alike, and a block of 4 that splits has every pixel
- * marched. A block whose nine rays met no medium splits too (nine clear rays can straddle a small
- * cloud), unless each ray kept far enough from any medium (clear_margin.h) that every ray between
+ * marched. The radiances and the depth numerator are compared relative to the larger of their
+ * own magnitude and the frame's scale: the mean over the first list's rays that met medium. A dim
+ * stretch of cloud (a shadowed flank, a thin edge) is then held to the absolute error that the
+ * tolerance allows the frame's typical cloud, not to a finer one: what an image's error measures
+ * (docs/ACCURACY.md, "Adaptive pixels"). A block holding a clear ray still splits, so a cloud's
+ * edge is marched at every pixel. A block whose nine rays met no medium splits too (nine clear
+ * rays can straddle a small cloud), unless each ray kept far enough from any medium (clear_margin.h) that every ray between
  * them is clear as well. What is interpolated is the march's accumulator (radiance per wavelength,
  * transparency, depth numerator); each pixel's own ray still resolves it against the air in front
  * (sl__resolve_pixel), so the sky and the aerial perspective stay exact. Which rays are marched
@@ -23,6 +28,7 @@ typedef struct sl__refine {
   int width, height, channels;
   int transparency; /* the channel compared by absolute difference (the others relatively) */
   double tolerance;
+  float *scale;                    /* per channel: the frame's scale (set after the first list) */
   int block_x, block_y;            /* the blocked region: pixels x <= block_x, y <= block_y */
   float *acc;                      /* width * height * channels: the accumulators */
   unsigned char *marched;          /* per pixel: 1 once its ray is in the list to march */
