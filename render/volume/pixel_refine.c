@@ -7,8 +7,40 @@
 
 enum refine_state { BLOCK_INACTIVE = 0, BLOCK_SMOOTH, BLOCK_SPLITS };
 
-static int blocks_across(const sl__refine *f, int size) { return f->block_x / size; }
-static int blocks_down(const sl__refine *f, int size) { return f->block_y / size; }
+/* The blocks along an axis of `length` pixels (pixel_refine.h); 0 when out of memory. */
+static int axis_init(sl__refine_axis *ax, int length)
+{
+  const int top = SL__REFINE_TOP, regular = (length - 1) / top;
+  ax->n = regular ? regular + ((length - 1) % top != 0) : 0;
+  ax->origin = malloc((size_t)(ax->n ? ax->n : 1) * sizeof *ax->origin);
+  ax->block_of = malloc((size_t)length * sizeof *ax->block_of);
+  ax->on_first = calloc((size_t)length, 1);
+  if (!ax->origin || !ax->block_of || !ax->on_first) return 0;
+  for (int j = 0; j < ax->n; ++j) {
+    ax->origin[j] = j < regular ? j * top : length - 1 - top;
+    for (int k = 0; k <= top; k += top / 2) ax->on_first[ax->origin[j] + k] = 1;
+  }
+  for (int p = 0; p < length; ++p)
+    ax->block_of[p] = !ax->n ? 0 : p <= regular * top ? (p / top < regular ? p / top : regular - 1) : ax->n - 1;
+  return 1;
+}
+
+/* Blocks along an axis at `level` (each block of SL__REFINE_TOP holds 2^level of them). */
+static int blocks_along(const sl__refine_axis *ax, int level) { return ax->n << level; }
+
+/* The first pixel of block i at `level` along an axis. */
+static int block_origin(const sl__refine_axis *ax, int level, int i)
+{
+  return ax->origin[i >> level] + (i & ((1 << level) - 1)) * (SL__REFINE_TOP >> level);
+}
+
+/* The block at `level` holding pixel p along an axis. */
+static int block_holding(const sl__refine_axis *ax, int level, int p)
+{
+  const int j = ax->block_of[p], size = SL__REFINE_TOP >> level, last = (1 << level) - 1;
+  const int sub = (p - ax->origin[j]) / size;
+  return (j << level) + (sub < last ? sub : last);
+}
 
 int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance,
                     double clear_spread)
@@ -16,11 +48,6 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
   memset(f, 0, sizeof *f);
   f->width = width, f->height = height, f->channels = channels;
   f->transparency = transparency, f->tolerance = tolerance, f->clear_spread = clear_spread;
-  /* The blocked region's last row and column are lattice points; the strips beyond, narrower than
-   * a block, are marched. An image smaller than one block is marched whole. */
-  f->block_x = (width - 1) / SL__REFINE_TOP * SL__REFINE_TOP;
-  f->block_y = (height - 1) / SL__REFINE_TOP * SL__REFINE_TOP;
-  if (!f->block_x || !f->block_y) f->block_x = f->block_y = -1;
   const size_t np = (size_t)width * height;
   f->acc = calloc(np * channels, sizeof *f->acc);
   f->marched = calloc(np, 1);
@@ -29,9 +56,11 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
   f->list = malloc(np * sizeof *f->list);
   f->scale = calloc((size_t)channels, sizeof *f->scale);
   int ok = f->acc && f->marched && f->hard && f->clear && f->list && f->scale;
-  for (int l = 0; l < SL__REFINE_LEVELS && ok && f->block_x > 0; ++l) {
-    const int size = SL__REFINE_TOP >> l;
-    f->state[l] = calloc((size_t)blocks_across(f, size) * blocks_down(f, size), 1);
+  ok = ok && axis_init(&f->x, width) && axis_init(&f->y, height);
+  /* An image shorter than a block along either axis is marched whole. */
+  if (ok && (!f->x.n || !f->y.n)) f->x.n = f->y.n = 0;
+  for (int l = 0; l < SL__REFINE_LEVELS && ok && f->x.n; ++l) {
+    f->state[l] = calloc((size_t)blocks_along(&f->x, l) * blocks_along(&f->y, l), 1);
     ok = f->state[l] != NULL;
   }
   if (!ok) sl__refine_free(f);
@@ -41,6 +70,8 @@ int sl__refine_init(sl__refine *f, int width, int height, int channels, int tran
 void sl__refine_free(sl__refine *f)
 {
   free(f->acc), free(f->marched), free(f->hard), free(f->clear), free(f->list), free(f->scale);
+  free(f->x.origin), free(f->x.block_of), free(f->x.on_first);
+  free(f->y.origin), free(f->y.block_of), free(f->y.on_first);
   for (int l = 0; l < SL__REFINE_LEVELS; ++l) free(f->state[l]);
   memset(f, 0, sizeof *f);
 }
@@ -55,13 +86,12 @@ static void list_pixel(sl__refine *f, int x, int y)
 
 size_t sl__refine_first(sl__refine *f)
 {
-  const int step = SL__REFINE_TOP / 2;
   f->count = 0;
-  f->size = f->block_x < 0 ? 0 : SL__REFINE_TOP;
+  f->size = f->x.n ? SL__REFINE_TOP : 0;
   memset(f->marched, 0, (size_t)f->width * f->height);
   for (int y = 0; y < f->height; ++y)
     for (int x = 0; x < f->width; ++x)
-      if (x > f->block_x || y > f->block_y || (x % step == 0 && y % step == 0)) list_pixel(f, x, y);
+      if (!f->x.n || (f->x.on_first[x] && f->y.on_first[y])) list_pixel(f, x, y);
   return f->count;
 }
 
@@ -149,10 +179,10 @@ size_t sl__refine_next(sl__refine *f)
   int level = 0;
   while ((SL__REFINE_TOP >> level) > f->size) level++;
   const int size = f->size, step = size / 4;
-  const int bw = blocks_across(f, size), bh = blocks_down(f, size);
+  const int bw = blocks_along(&f->x, level), bh = blocks_along(&f->y, level);
   unsigned char *state = f->state[level];
   const unsigned char *parent = level ? f->state[level - 1] : NULL;
-  const int parent_bw = level ? blocks_across(f, 2 * size) : 0;
+  const int parent_bw = level ? blocks_along(&f->x, level - 1) : 0;
   for (int j = 0; j < bh; ++j)
     for (int i = 0; i < bw; ++i) {
       unsigned char *s = &state[(size_t)j * bw + i];
@@ -160,7 +190,7 @@ size_t sl__refine_next(sl__refine *f)
         *s = BLOCK_INACTIVE;
         continue;
       }
-      const int x0 = i * size, y0 = j * size;
+      const int x0 = block_origin(&f->x, level, i), y0 = block_origin(&f->y, level, j);
       *s = block_smooth(f, x0, y0, size) ? BLOCK_SMOOTH : BLOCK_SPLITS;
       if (*s == BLOCK_SPLITS)
         for (int y = y0; y <= y0 + size; y += step)
@@ -173,22 +203,23 @@ size_t sl__refine_next(sl__refine *f)
 void sl__refine_fill(sl__refine *f)
 {
   const int nc = f->channels;
+  if (!f->x.n) return;
 #pragma omp for schedule(static)
-  for (int y = 0; y <= f->block_y; ++y)
-    for (int x = 0; x <= f->block_x; ++x) {
+  for (int y = 0; y < f->height; ++y)
+    for (int x = 0; x < f->width; ++x) {
       const size_t q = (size_t)y * f->width + x;
       if (f->marched[q]) continue;
       /* The pixel lies in a smooth block of some size, whose halfway lattice is marched: a block
        * of 8 that splits lists its halves' halfway points, and one of 4 every pixel. */
       for (int level = 0; level < SL__REFINE_LEVELS; ++level) {
         const int size = SL__REFINE_TOP >> level, half = size / 2;
-        const int bw = blocks_across(f, size), bh = blocks_down(f, size);
-        const int i = x / size < bw ? x / size : bw - 1, j = y / size < bh ? y / size : bh - 1;
-        if (f->state[level][(size_t)j * bw + i] != BLOCK_SMOOTH) continue;
+        const int i = block_holding(&f->x, level, x), j = block_holding(&f->y, level, y);
+        if (f->state[level][(size_t)j * blocks_along(&f->x, level) + i] != BLOCK_SMOOTH) continue;
         /* The quarter of the block holding the pixel (its last row and column in the last). */
-        int x0 = i * size + (x - i * size) / half * half, y0 = j * size + (y - j * size) / half * half;
-        if (x0 == (i + 1) * size) x0 -= half;
-        if (y0 == (j + 1) * size) y0 -= half;
+        const int bx = block_origin(&f->x, level, i), by = block_origin(&f->y, level, j);
+        int x0 = bx + (x - bx) / half * half, y0 = by + (y - by) / half * half;
+        if (x0 == bx + size) x0 -= half;
+        if (y0 == by + size) y0 -= half;
         const float u = (float)(x - x0) / half, v = (float)(y - y0) / half;
         const float *a00 = acc_at(f, x0, y0), *a10 = acc_at(f, x0 + half, y0);
         const float *a01 = acc_at(f, x0, y0 + half), *a11 = acc_at(f, x0 + half, y0 + half);

@@ -1,6 +1,9 @@
 /* Adaptive refinement of an image's rays (after Levoy's "volume rendering by adaptive
  * refinement", in blocks): march the rays of every SL__REFINE_TOP/2-th pixel first, so that each
- * block of SL__REFINE_TOP pixels has its corners and the five points halfway between them. Where
+ * block of SL__REFINE_TOP pixels has its corners and the five points halfway between them. The
+ * blocks tile the image from its first pixel; where its last column (row) is not on that lattice,
+ * a last column (row) of blocks ends on it, overlapping the one before, so that the image's edges
+ * are judged as its middle is. Where
  * those five agree with the bilinear interpolation of the corners within a tolerance, the block is
  * smooth: its pixels take their accumulators by bilinear interpolation of the nine (a quarter of
  * the error the test measured, where the image is smooth). Elsewhere the block splits in four,
@@ -24,12 +27,22 @@
 #define SL__REFINE_TOP 8    /* the coarsest block, in pixels */
 #define SL__REFINE_LEVELS 2 /* blocks of 8 and 4 are judged */
 
+/* The blocks of SL__REFINE_TOP pixels along one axis of the image: one every SL__REFINE_TOP pixels
+ * from 0, and, where the image's last pixel is not on that lattice, one more ending on it, which
+ * overlaps the one before. */
+typedef struct sl__refine_axis {
+  int n;         /* blocks along the axis (0: shorter than a block, marched whole) */
+  int *origin;   /* n: each block's first pixel */
+  int *block_of; /* per pixel: the block holding it (of two that overlap, the first) */
+  unsigned char *on_first; /* per pixel: 1 on a block's corner or midpoint (the first list's) */
+} sl__refine_axis;
+
 typedef struct sl__refine {
   int width, height, channels;
   int transparency; /* the channel compared by absolute difference (the others relatively) */
   double tolerance;
   float *scale;                    /* per channel: the frame's scale (set after the first list) */
-  int block_x, block_y;            /* the blocked region: pixels x <= block_x, y <= block_y */
+  sl__refine_axis x, y;            /* the blocks across and down */
   float *acc;                      /* width * height * channels: the accumulators */
   unsigned char *marched;          /* per pixel: 1 once its ray is in the list to march */
   unsigned char *hard;             /* per pixel, set by the caller: 1 where the ray meets an
@@ -49,8 +62,8 @@ typedef struct sl__refine {
 int sl__refine_init(sl__refine *f, int width, int height, int channels, int transparency, double tolerance,
                     double clear_spread);
 void sl__refine_free(sl__refine *f);
-/* The first list: every SL__REFINE_TOP/2-th pixel of the blocked region and every pixel of the
- * strips beyond it (narrower than a block). Returns the list's length. */
+/* The first list: the corners, edge midpoints and centre of every block of SL__REFINE_TOP (every
+ * pixel where the image is shorter than a block along an axis). Returns the list's length. */
 size_t sl__refine_first(sl__refine *f);
 /* After the last list's rays are in acc: judges the blocks of the current size whose larger block
  * split, and lists the halfway points of the halves of those that split too. Returns the list's

@@ -13,6 +13,7 @@
 #include "clear_margin.h"
 #include "homogeneous_reference.h"
 #include "pixel_refine.h"
+#include "refine_lattice.h"
 #include "sl_testing.h"
 #include "sl_vec3.h"
 #include "sl_volume.h"
@@ -144,13 +145,7 @@ static size_t run_clear(double spread, float ratio, int split_x, int split_y)
   return marched;
 }
 
-static size_t lattice_count(int step)
-{
-  size_t n = 0;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) n += x > 40 || y > 32 || (x % step == 0 && y % step == 0);
-  return n;
-}
+static size_t lattice_count(int step) { return refine_lattice_count(W, H, step); }
 
 static void test_refine_rule(void)
 {

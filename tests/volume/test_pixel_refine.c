@@ -3,8 +3,8 @@
  * on a paraboloid a(x^2 + y^2) a block's centre misses its corners' mean by a S^2 / 2, so the
  * tolerance decides the lattice that is marched and the fill's error is at most a h^2 / 2 at the
  * marched spacing h. A dim bowl is judged against the frame's scale: split alone, interpolated beside
- * bright cloud. A clear ray, an opaque surface and a NaN keep their blocks marched; the strips
- * beyond the last block are marched. Then the light-volume march through a thin homogeneous box:
+ * bright cloud. A clear ray, an opaque surface and a NaN keep their blocks marched; the blocks
+ * ending on the image's edges are judged and filled as the others. Then the light-volume march through a thin homogeneous box:
  * within the tolerance of a ray per pixel, fewer samples, the same image on one thread and two, and
  * tolerances outside 0..1 refused. */
 #include <math.h>
@@ -14,6 +14,7 @@
 
 #include "homogeneous_reference.h"
 #include "pixel_refine.h"
+#include "refine_lattice.h"
 #include "sl_testing.h"
 
 enum { W = 67, H = 45, NC = 3 }; /* radiance, transparency, depth numerator */
@@ -57,14 +58,7 @@ static size_t run(sl__refine *rf, const field *fd)
   return marched;
 }
 
-static size_t lattice_count(int step)
-{
-  /* Pixels on the lattice of `step` inside the blocked region [0, 64] x [0, 40], and the strips. */
-  size_t n = 0;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) n += x > 64 || y > 40 || (x % step == 0 && y % step == 0);
-  return n;
-}
+static size_t lattice_count(int step) { return refine_lattice_count(W, H, step); }
 
 static double worst_fill_error(const sl__refine *rf, const field *fd)
 {
@@ -82,14 +76,16 @@ int main(void)
 {
   sl__refine rf;
   CHECK(sl__refine_init(&rf, W, H, NC, 1, 1e-4, 0.0));
-  CHECK_MSG(rf.block_x == 64 && rf.block_y == 40, "67 x 45: blocks over [0, 64] x [0, 40], strips beyond");
+  CHECK_MSG(rf.x.n == 9 && rf.x.origin[7] == 56 && rf.x.origin[8] == 58 && rf.y.n == 6 && rf.y.origin[4] == 32 &&
+                rf.y.origin[5] == 36,
+            "67 x 45: blocks of 8 from 0, then a last column and row of blocks ending on the image's edges");
 
   /* A bilinear field: every block's halfway points lie on its corners' interpolation. */
   field bilinear = {.a = 0, .clear_x = -1, .clear_y = -1, .nan_x = -1, .nan_y = -1};
   size_t n = run(&rf, &bilinear);
   printf("bilinear: %zu of %d marched (every 4th pixel: %zu), worst fill error %.2e\n", n, W * H, lattice_count(4),
          worst_fill_error(&rf, &bilinear));
-  CHECK_MSG(n == lattice_count(4), "a bilinear field: only every fourth pixel (and the strips) is marched");
+  CHECK_MSG(n == lattice_count(4), "a bilinear field: only every fourth pixel (the edges' blocks too) is marched");
   CHECK_MSG(worst_fill_error(&rf, &bilinear) < 1e-5, "a bilinear field is filled exactly (float rounding)");
   sl__refine_free(&rf);
 
@@ -129,7 +125,7 @@ int main(void)
     double err = 0.0;
     for (int y = 0; y <= 40; ++y)
       for (int x = 41; x < 64; ++x) {
-        off_lattice += rf.marched[y * W + x] && (x % 4 || y % 4);
+        off_lattice += rf.marched[y * W + x] && !(refine_on_lattice(x, W, 4) && refine_on_lattice(y, H, 4));
         float want[NC];
         field_at(&dim, x, y, want);
         err = fmax(err, fabs(rf.acc[((size_t)y * W + x) * NC] - want[0]));
@@ -160,11 +156,8 @@ int main(void)
   CHECK_MSG(kept, "blocks holding a clear ray, a NaN or an opaque surface have every pixel marched");
   CHECK_MSG(!rf.marched[2 * W + 2] && !rf.marched[30 * W + 3],
             "blocks away from them are interpolated (a bilinear field)");
-  int strips = 1;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      if (x > 64 || y > 40) strips &= rf.marched[y * W + x];
-  CHECK_MSG(strips, "the strips beyond the last block are marched");
+  CHECK_MSG(!rf.marched[2 * W + 65] && !rf.marched[42 * W + 2] && !rf.marched[43 * W + 65],
+            "the blocks ending on the image's edges are interpolated as the others (a bilinear field)");
   sl__refine_free(&rf);
 
   /* The march through a thin homogeneous box (test_thin_steps's), a ray per pixel against adaptive
