@@ -160,7 +160,7 @@ std::vector<Setting> variants(const Setting &base, bool quick, bool spectral_all
         [n](Setting &s) { s.light_volume = true, s.march_samples = n; });
   add("light volume", "light volume, thin steps 0.3",
       [](Setting &s) { s.light_volume = true, s.march_thin_depth = 0.3; });
-  for (double tol : {0.02, 0.1})
+  for (double tol : {0.02, 0.1, 0.2})
     add("light volume", "light volume, adaptive pixels " + fmt("%g", tol),
         [tol](Setting &s) { s.light_volume = true, s.march_refine_tolerance = tol; });
   add("fast", "slices 64, light buffer 64", [](Setting &s) { s.slices = 64, s.light_resolution = 64; });
