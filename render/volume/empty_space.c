@@ -1,6 +1,7 @@
 /* Empty space: which 8^3 bricks of the lattice hold medium, each empty brick's distance to the
  * nearest occupied one, the walk that finds where a ray first meets medium, the box around the
- * medium, and each 2^3-cell block's distance to medium (the adaptive march's clear blocks). Every pass of render/volume starts its rays and texels here. */
+ * medium, and each 2^3-cell block's distance to medium (the adaptive march's clear blocks). Every
+ * pass of render/volume starts its rays and texels here. */
 #include "renderer_internal.h"
 
 #include <math.h>

@@ -117,19 +117,15 @@ static int point_agrees(const sl__refine *f, int k, float marched, float predict
 static void frame_scale(sl__refine *f)
 {
   const int nc = f->channels;
-  size_t held = 0;
-  for (int k = 0; k < nc; ++k) f->scale[k] = 0.0f;
-  double *sum = calloc((size_t)nc, sizeof *sum);
-  if (!sum) return; /* no scale: every channel relative to its own magnitude */
-  for (size_t i = 0; i < f->count; ++i) {
-    const float *a = f->acc + (size_t)f->list[i] * nc;
-    if (!(a[f->transparency] < 1.0f)) continue;
-    held++;
-    for (int k = 0; k < nc; ++k) sum[k] += fabsf(a[k]);
+  for (int k = 0; k < nc; ++k) {
+    size_t held = 0;
+    double sum = 0.0;
+    for (size_t i = 0; i < f->count; ++i) {
+      const float *a = f->acc + (size_t)f->list[i] * nc;
+      if (a[f->transparency] < 1.0f) held++, sum += fabsf(a[k]);
+    }
+    f->scale[k] = held && k != f->transparency ? (float)(sum / (double)held) : 0.0f;
   }
-  for (int k = 0; k < nc; ++k)
-    if (held && k != f->transparency) f->scale[k] = (float)(sum[k] / (double)held);
-  free(sum);
 }
 
 /* Every one of the nine rays of the block of `size` at (x0, y0) met no medium and kept far enough

@@ -123,15 +123,20 @@ static inline __attribute__((always_inline)) double sl__box_exit_distance(const 
   return best > 0.0 ? best : 0.0;
 }
 
+/* x's coordinate along axis a in lattice units, clamped into the grid (the rule of sl_grid_sample). */
+static inline __attribute__((always_inline)) double sl__lattice_u(const sl_grid_view *g, const double x[3], int a)
+{
+  const double u = (x[a] - g->origin[a]) * g->inv_spacing[a], umax = (double)(g->n[a] - 1);
+  return u < 0.0 ? 0.0 : u > umax ? umax : u;
+}
+
 /* The lattice cell holding x (clamped into the grid, the rule of sl_grid_sample): its lower
  * corner i0 and the fractions f within it. */
 static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid_view *g, const double x[3], int i0[3],
                                                                    double f[3])
 {
   for (int a = 0; a < 3; ++a) {
-    double u = (x[a] - g->origin[a]) * g->inv_spacing[a];
-    const double umax = (double)(g->n[a] - 1);
-    u = u < 0.0 ? 0.0 : u > umax ? umax : u;
+    const double u = sl__lattice_u(g, x, a);
     int i = (int)u;
     if (i > g->n[a] - 2) i = g->n[a] - 2;
     if (i < 0) i = 0;
@@ -317,6 +322,18 @@ static inline __attribute__((always_inline)) void sl__field_fetch(const sl_rende
   }
 }
 
+/* The total extinction in a cell found by sl__field_cell_at (sl__field_fetch's fields summed, in
+ * double, field by field). */
+static inline __attribute__((always_inline)) double sl__field_total(const sl_renderer *r, const int nf,
+                                                                    const sl__field_cell *cell)
+{
+  float v[SL__FIELD_LANES];
+  sl__field_fetch(r, nf, cell, v);
+  double total = 0.0;
+  for (int j = 0; j < nf; ++j) total += v[j];
+  return total;
+}
+
 /* Trilinear sample of every field's extinction at x (the same lattice rule as sl_grid_sample, in
  * float); returns 0 and zeros outside the box or in an empty brick. nf is r->model.nf, passed
  * apart so that the specialised passes give it as a constant. */
@@ -352,12 +369,7 @@ static inline __attribute__((always_inline)) double sl__total_extinction_n(const
 {
   if (nf <= 1) return sl_grid_sample(&r->lattice, x);
   sl__field_cell cell;
-  if (!sl__field_cell_at(r, nf, x, 0, &cell)) return 0.0;
-  float v[SL__FIELD_LANES];
-  sl__field_fetch(r, nf, &cell, v);
-  double total = 0.0;
-  for (int j = 0; j < nf; ++j) total += v[j];
-  return total;
+  return sl__field_cell_at(r, nf, x, 0, &cell) ? sl__field_total(r, nf, &cell) : 0.0;
 }
 
 static inline double sl__total_extinction(const sl_renderer *r, const double x[3])
@@ -372,9 +384,9 @@ static inline double sl__total_extinction(const sl_renderer *r, const double x[3
  * Gauss-Legendre rule integrates exactly, so the segment is cut where it crosses them and each
  * piece is taken by that rule (which reads no end point: a segment ending on the box's face, where
  * the medium stops, is not read there). Exact where the segment crosses fewer than
- * SL__SEGMENT_PIECES pieces, each piece's cell found once; past that, equal pieces. A cloud's surface where its density ramps up
- * from zero within a cell is then integrated wherever it lies along the segment, as a single
- * midpoint is not. */
+ * SL__SEGMENT_PIECES pieces, each piece's cell found once; past that, equal pieces. A cloud's
+ * surface where its density ramps up from zero within a cell is then integrated wherever it lies
+ * along the segment, as a single midpoint is not. */
 static inline double sl__segment_optical_depth(const sl_renderer *r, const int nf, const double a_in[3],
                                                const double b_in[3])
 {
@@ -433,17 +445,9 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const int n
     if (!sl__field_cell_of(r, nf, i0, fm, 0, &cell)) continue;
     for (int k = 0; k < 2; ++k) {
       const double l = lm + (k ? node : -node) * (l1 - l0);
-      for (int ax = 0; ax < 3; ++ax) {
-        const double umax = (double)(g->n[ax] - 1);
-        double u = (a[ax] + l * (b[ax] - a[ax]) - g->origin[ax]) * g->inv_spacing[ax];
-        u = u < 0.0 ? 0.0 : u > umax ? umax : u;
-        cell.f[ax] = g->n[ax] > 1 ? (float)(u - i0[ax]) : 0.0f;
-      }
-      float v[SL__FIELD_LANES];
-      sl__field_fetch(r, nf, &cell, v);
-      double total = 0.0;
-      for (int j = 0; j < nf; ++j) total += v[j];
-      sum += 0.5 * (l1 - l0) * total;
+      const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
+      for (int ax = 0; ax < 3; ++ax) cell.f[ax] = g->n[ax] > 1 ? (float)(sl__lattice_u(g, x, ax) - i0[ax]) : 0.0f;
+      sum += 0.5 * (l1 - l0) * sl__field_total(r, nf, &cell);
     }
   }
   return sum * len;
