@@ -25,6 +25,9 @@ _Static_assert(EYE_BATCH == SL__SKY_BATCH, "the skylight gather's rows are an ey
 /* The optical depth of a part's light path within its slab, at its own extinction, above which
  * the path's own medium is integrated (eye_batch_light). */
 #define EYE_PATH_DEPTH 0.05
+/* The light buffer's ln I below which, at both ends of a part and every wavelength, its light path
+ * is not integrated (eye_dark): e^-40 = 4e-18 of the sunlight. */
+#define EYE_DARK_LOG (-40.0)
 
 /* Whether pixel q's ray, front to back, is already so deep in the medium (its transparency below
  * SL_PART_DEEP) that a thick segment there is taken as one part at its middle's fields, with its
@@ -128,6 +131,20 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   int sky_first[EYE_BATCH]; /* the part looks the skylight up (else: as the part before) */
   int live; /* parts held */
 } eye_batch;
+
+/* Whether part s's sunlight is too dark for its light path's medium to matter: ln I below
+ * EYE_DARK_LOG at both its ends at every wavelength. Along the part the light is log-linear between
+ * the ends times the slab's own attenuation, which only lowers it (eye_batch_radiance), so the
+ * part's sunlit radiance is below e^-40 of a lit part's with the same phase term whatever the path
+ * integral gives: below float's rounding of any pixel the sun reaches, even through the tables'
+ * forward peak. Seen from a storm's shadowed side or into a low sun, most parts near the surface
+ * are that dark (the supercell at sunset: three quarters of the integrals). */
+static inline int eye_dark(const eye_batch *b, const int nwl, const int s)
+{
+  double brightest = b->l0[0][s];
+  for (int c = 0; c < nwl; ++c) brightest = fmax(brightest, fmax(b->l0[c][s], b->l1[c][s]));
+  return brightest < EYE_DARK_LOG;
+}
 
 /* The batch's parts from the tile's samples si.. (cells, pixels sq, middles smid, lengths slen of
  * cnt): per sample its fields and parts (scalar: a sample's parts vary), until the batch has no
@@ -295,14 +312,16 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
    * count (eq. 21) as far inside as the plane lay from it, darker and more isotropic the further
    * the plane, once per slab. Where that matters (an optical depth above EYE_PATH_DEPTH at the
    * part's own extinction), each end's path takes the length that has the optical depth of the
-   * path's own medium (sl__segment_optical_depth) at the part's extinction. The parts of one
-   * segment lie next to each other in the batch and share their ends, so each end is integrated
-   * once. */
+   * path's own medium (sl__segment_optical_depth) at the part's extinction, unless the part's
+   * sunlight is too dark to matter (eye_dark). The parts of one segment lie next to each other in
+   * the batch and share their ends, so each end is integrated once. */
   int held_q = -1;
   double held_t[2] = {0.0, 0.0}, held_depth[2] = {0.0, 0.0};
   for (int s = 0; s < live; ++s) {
     const double path_near = b->path_near[s], path_far = path_near + b->light_rate[s] * b->len[s];
-    if (!(b->beta[s] * sl__max(path_near, path_far) > EYE_PATH_DEPTH) || eye_deep(f, nwl, b->q[s])) continue;
+    if (!(b->beta[s] * sl__max(path_near, path_far) > EYE_PATH_DEPTH) || eye_deep(f, nwl, b->q[s]) ||
+        eye_dark(b, nwl, s))
+      continue;
     const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE;
     double depth[2], te[2];
     for (int end = 0; end < 2; ++end) {
