@@ -2,11 +2,11 @@
  * fields whose curvature is known: a bilinear field is interpolated exactly from every fourth pixel;
  * on a paraboloid a(x^2 + y^2) a block's centre misses its corners' mean by a S^2 / 2, so the
  * tolerance decides the lattice that is marched and the fill's error is at most a h^2 / 2 at the
- * marched spacing h. A dim bowl is judged against the frame's scale: split alone, interpolated beside
- * bright cloud. A clear ray, an opaque surface and a NaN keep their blocks marched; the blocks
- * ending on the image's edges are judged and filled as the others. Then the light-volume march through a thin homogeneous box:
- * within the tolerance of a ray per pixel, fewer samples, the same image on one thread and two, and
- * tolerances outside 0..1 refused. */
+ * marched spacing h. A dim bowl is judged against the frame's scale: split alone, interpolated
+ * beside bright cloud. A clear ray, an opaque surface and a NaN keep their blocks marched; the
+ * blocks ending on the image's edges are judged and filled as the others. Then the light-volume
+ * march through a thin homogeneous box: within the tolerance of a ray per pixel, fewer samples, the
+ * same image on one thread and two, and tolerances outside 0..1 refused. */
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
