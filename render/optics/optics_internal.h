@@ -53,13 +53,15 @@ int optics_size_distribution_at(sl_particle p, double r_eff_m, optics_lognormal 
 double optics_lognormal_effective_radius(const optics_lognormal *d);
 
 /* Exponential size distribution n(D) = N0 exp(-slope D) of graupel and hail (rimed_ice.c): spheres
- * of the bulk density, Mie up to size parameter SL_RIMED_X_MIE_MAX, a large-particle limit beyond. */
+ * of the bulk density, Mie up to size parameter SL_RIMED_X_MIE_MAX, a large-particle limit beyond
+ * whose angular shape is the mean of SL_RIMED_BAND_SPHERES spheres spread below it. */
 typedef struct optics_exponential {
   double slope_per_m, density_kg_m3;
   const char *source;
 } optics_exponential;
 const optics_exponential *optics_rimed_distribution(sl_particle p);
 #define SL_RIMED_X_MIE_MAX 2.0e4
+#define SL_RIMED_BAND_SPHERES 64
 
 /* Turns a raw phase function into a finished table (phase_table.c). The table owns one
  * allocation, released with optics_table_release. */

@@ -37,6 +37,18 @@ typedef struct sphere_scattering {
   double qext, qsca, g;
 } sphere_scattering;
 
+/* The quadrature's i-th node in t = lambda D: midpoints of R equal steps of (0, RIMED_T_MAX]. */
+static double node_t(int i, int R)
+{
+  return RIMED_T_MAX * (i + 0.5) / R;
+}
+
+/* The large-particle limit's spheres: midpoints of equal steps of x across [x_max / 2, x_max]. */
+static double band_size_parameter(int j)
+{
+  return SL_RIMED_X_MIE_MAX * (0.5 + 0.5 * (j + 0.5) / SL_RIMED_BAND_SPHERES);
+}
+
 int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, int radius_samples,
                      optics_raw_phase *out, sl_error *err)
 {
@@ -46,14 +58,14 @@ int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, 
   double m_re, m_im;
   sl_rimed_ice_index(wavelength_nm, dist->density_kg_m3, &m_re, &m_im);
   const double k = 2.0 * SL_PI / (wavelength_nm * 1e-9);
-  const int J = g->n_angles, half = (J + 1) / 2, R = radius_samples;
+  const int J = g->n_angles, half = (J + 1) / 2, R = radius_samples, B = SL_RIMED_BAND_SPHERES;
   const size_t row = (size_t)(2 * half);
-  /* Row R holds the sphere at x = SL_RIMED_X_MIE_MAX, the shape of every larger one. */
-  double *s11 = malloc(sizeof(double) * (size_t)(R + 1) * row);
-  sphere_scattering *sph = malloc(sizeof *sph * (size_t)(R + 1));
+  /* Rows 0..R-1: the quadrature's nodes (those beyond x_max unused); rows R..R+B-1: the band. */
+  double *s11 = malloc(sizeof(double) * (size_t)(R + B) * row);
+  sphere_scattering *sph = malloc(sizeof *sph * (size_t)(R + B));
   if (!s11 || !sph) {
     free(s11), free(sph);
-    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d radii", R);
+    return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory for %d radii", R + B);
   }
   int failed = 0;
   sl_error first = {0};
@@ -61,8 +73,8 @@ int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, 
   {
     sl_mie_workspace ws = {0};
 #pragma omp for schedule(dynamic, 1)
-    for (int i = 0; i <= R; ++i) {
-      const double x = i == R ? SL_RIMED_X_MIE_MAX : k * 0.5 * RIMED_T_MAX * (i + 0.5) / R / dist->slope_per_m;
+    for (int i = 0; i < R + B; ++i) {
+      const double x = i >= R ? band_size_parameter(i - R) : k * 0.5 * node_t(i, R) / dist->slope_per_m;
       if (i < R && x > SL_RIMED_X_MIE_MAX) continue; /* the large-particle limit, below */
       sl_mie_efficiencies e;
       sl_error e_local = {0};
@@ -82,36 +94,47 @@ int optics_rimed_ice(sl_particle p, double wavelength_nm, const optics_grid *g, 
     free(s11), free(sph);
     return sl_fail(err, first.code, "%s", first.message);
   }
-  /* The large-particle limit, x > 2e4: Q_ext = 2 (the extinction paradox: diffraction removes as
-   * much as the geometric shadow); the absorbed fraction grows with the path through the sphere,
-   * Q_abs = Q_abs(2e4) x / 2e4 (weak absorption, capped at 1); and S11 keeps the shape it has at
-   * x = 2e4. Outside the diffraction peak geometric optics makes the angular pattern independent of
-   * size for a weakly absorbing sphere; the peak itself, 1/x radians wide (0.003 degrees at 2e4),
-   * lies inside the table's truncation cone at every larger x, so its narrowing changes no table.
-   * Visible ice absorbs below 1e-3 across a centimetre: the limit's error is the missing ripple. */
-  const sphere_scattering lim = sph[R];
-  const double qabs_lim = lim.qext - lim.qsca;
-  double sum_sca = 0.0, sum_ext = 0.0, sum_g = 0.0, sum_d3 = 0.0;
-  double *mean_s11 = calloc(row, sizeof(double));
+  /* The large-particle limit, x > x_max = 2e4: Q_ext = 2 (the extinction paradox: diffraction
+   * removes as much as the geometric shadow); the absorbed fraction grows with the path through the
+   * sphere, Q_abs = x times the band's mean Q_abs / x (weak absorption, capped at 1); and S11 per
+   * unit of scattering cross-section is the band's mean. Outside the diffraction peak geometric
+   * optics makes that shape independent of size for a weakly absorbing sphere; the peak itself, 1/x
+   * radians wide (0.003 degrees at 2e4), lies inside the table's truncation cone at every larger x.
+   * The band's mean, not one sphere: a sphere's S11 carries interference ripple a hundredth of a
+   * degree apart, which the table's grid samples as noise that differs between wavelengths
+   * (coloured stripes around a sun behind hail); over sizes the ripple averages out, as it does
+   * over the distribution the limit stands for. Visible ice absorbs below 1e-3 across a
+   * centimetre, so what the limit leaves out is the diffraction tail's fall (as 1/x against the
+   * geometric part) beyond the band, a few degrees from the forward direction. */
+  double *mean_s11 = calloc(2 * row, sizeof(double)), *shape = mean_s11 + row;
   if (!mean_s11) {
     free(s11), free(sph);
     return sl_fail(err, SL_ERR_NOMEM, "optics: out of memory");
   }
+  double qabs_per_x = 0.0, g_lim = 0.0;
+  for (int j = 0; j < B; ++j) {
+    const double x = band_size_parameter(j);
+    const sphere_scattering s = sph[R + j];
+    const double *src = s11 + (size_t)(R + j) * row;
+    for (size_t a = 0; a < row; ++a) shape[a] += src[a] / (x * x * s.qsca * B);
+    qabs_per_x += (s.qext - s.qsca) / (x * B);
+    g_lim += s.g / B;
+  }
+  double sum_sca = 0.0, sum_ext = 0.0, sum_g = 0.0, sum_d3 = 0.0;
   for (int i = 0; i < R; ++i) {
-    const double t = RIMED_T_MAX * (i + 0.5) / R;
+    const double t = node_t(i, R);
     const double d = t / dist->slope_per_m, x = k * 0.5 * d, area = 0.25 * SL_PI * d * d;
     const double w = exp(-t); /* number per unit lambda D, the midpoint rule's weight */
-    const double *src = s11 + (size_t)i * row;
-    double scale = 1.0;
     sphere_scattering s = sph[i];
     if (x > SL_RIMED_X_MIE_MAX) {
-      const double qabs = fmin(1.0, qabs_lim * x / SL_RIMED_X_MIE_MAX);
-      s = (sphere_scattering){2.0, 2.0 - qabs, lim.g};
-      /* S11 integrates to x^2 pi Q_sca (sl_mie.h): the limit's shape, rescaled to this sphere. */
-      scale = (x / SL_RIMED_X_MIE_MAX) * (x / SL_RIMED_X_MIE_MAX) * s.qsca / lim.qsca;
-      src = s11 + (size_t)R * row;
+      const double qabs = fmin(1.0, qabs_per_x * x);
+      s = (sphere_scattering){2.0, 2.0 - qabs, g_lim};
+      /* S11 integrates to x^2 pi Q_sca (sl_mie.h): the band's shape times this sphere's x^2 Q_sca. */
+      for (size_t a = 0; a < row; ++a) mean_s11[a] += w * x * x * s.qsca * shape[a];
+    } else {
+      const double *src = s11 + (size_t)i * row;
+      for (size_t a = 0; a < row; ++a) mean_s11[a] += w * src[a];
     }
-    for (size_t j = 0; j < row; ++j) mean_s11[j] += w * scale * src[j];
     sum_ext += w * area * s.qext;
     sum_sca += w * area * s.qsca;
     sum_g += w * area * s.qsca * s.g;

@@ -126,8 +126,8 @@ static void cache_key(const sl_optics_request *r, sl_particle p, double r_eff_m,
                     r->radius_samples);
   const optics_exponential *e = optics_rimed_distribution(p);
   if (e)
-    len += snprintf(key + len, size - (size_t)len, " exponential=%.9g,%.9g xmie=%.9g radii=%d", e->slope_per_m,
-                    e->density_kg_m3, SL_RIMED_X_MIE_MAX, r->radius_samples);
+    len += snprintf(key + len, size - (size_t)len, " exponential=%.9g,%.9g xmie=%.9g band=%d radii=%d",
+                    e->slope_per_m, e->density_kg_m3, SL_RIMED_X_MIE_MAX, SL_RIMED_BAND_SPHERES, r->radius_samples);
   if (p == SL_ICE) len += snprintf(key + len, size - (size_t)len, " rays=%ld seed=%llu", r->ice_rays, r->seed);
   const sl_particle_props *props = sl_particle_properties(p);
   len += snprintf(key + len, size - (size_t)len, " sigma=%.9g r=%.9g wl=", props->sigma_ext_m2, props->radius_m);

@@ -1,9 +1,11 @@
 /* Graupel and hail optics against outside values: Bruggeman's index against a bisection of the
  * equation it solves (and its two pure limits), the extinction efficiency of large spheres against
  * 2, the tables' extinction per unit mass against the exponential distribution's closed form
- * Q lambda / (2 rho), and the normalisation of every Ams_n, Dirac included. */
+ * Q lambda / (2 rho), the normalisation of every Ams_n, Dirac included, and the smoothness in angle
+ * and in colour that averaging over a broad distribution of sizes gives. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "optics_test_util.h"
 #include "sl_mie.h"
@@ -25,6 +27,31 @@ static double bruggeman_bisection(double f, double e1, double e2)
     else hi = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The median over grid points in [lo, hi] degrees of |second difference| of ln P (tables a and b
+ * NULL) or of ln P_a - ln P_b (two wavelengths' P: the colour of the scattered light). */
+static double median_log_curvature(const sl_phase_table *a, const sl_phase_table *b, double lo, double hi)
+{
+  const double step = a->step_rad * 180.0 / SL_PI;
+  double d[4096];
+  int n = 0;
+  for (int j = (int)ceil(lo / step); j * step <= hi && j + 1 < a->n_angles && n < 4096; ++j) {
+    double v[3];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = log(a->ams[a->n_angles + j - 1 + k]);
+      if (b) v[k] -= log(b->ams[b->n_angles + j - 1 + k]);
+    }
+    d[n++] = fabs(v[0] - 2.0 * v[1] + v[2]);
+  }
+  qsort(d, (size_t)n, sizeof *d, compare_doubles);
+  return n ? d[n / 2] : NAN;
 }
 
 int main(void)
@@ -67,7 +94,7 @@ int main(void)
   req.use_cache = 0;
   req.particles = (1u << SL_GRAUPEL) | (1u << SL_HAIL);
   req.angle_step_deg = 0.5;
-  req.radius_samples = 64;
+  req.radius_samples = 256;
   sl_error err = {0};
   sl_optics_tables *T = sl_optics_build(&req, &err);
   CHECK_MSG(T != NULL, err.message);
@@ -97,6 +124,17 @@ int main(void)
       double worst = 0.0;
       for (int n = 0; n <= t->max_order; ++n) worst = fmax(worst, fabs(sphere_integral(t, n) - 1.0));
       CHECK_MSG(worst < 1e-4, "every Ams_n of graupel and hail integrates to 1 within 1e-4");
+      /* Over a broad distribution of large spheres each size's interference ripple, a hundredth
+       * of a degree apart and shifting with size, averages out: what is left is the geometric
+       * envelope and the diffraction tail, curving over degrees. Where one sphere stands for the
+       * sizes beyond Mie's reach, the grid samples its ripple as noise, and in colour too (the
+       * ripple moves with wavelength): stripes around a sun behind hail. On this grid that gave
+       * hail a median |second difference| of ln P of 0.37-0.50 and of the colour 0.49-0.61,
+       * graupel's colour 0.14-0.16. Outside the truncation cone, 2 degrees to the backward. */
+      const double curve = median_log_curvature(t, NULL, 2.0, 178.0);
+      const double colour = median_log_curvature(t, sl_optics_table(T, cases[c].p, (w + 1) % 3), 2.0, 178.0);
+      printf("  median |second difference| of ln P %.4f, of ln P / P(next wavelength) %.4f\n", curve, colour);
+      CHECK_MSG(curve < 0.05 && colour < 0.1, "graupel and hail smooth in angle and colour");
     }
   /* Per representative particle the tables must carry the cross-section that, times the number
    * eta = rho q / m, gives that extinction per unit mass: graupel's is larger than hail's by
