@@ -263,6 +263,16 @@ static inline __attribute__((always_inline)) int sl__in_lattice_box(const sl_gri
          (x[2] <= g->hi[2]);
 }
 
+/* The cell (i0, f) of a point in the box, whatever its brick. */
+static inline __attribute__((always_inline)) void sl__field_cell_fill(const sl_renderer *r, const int nf,
+                                                                      const int i0[3], const double f[3],
+                                                                      sl__field_cell *cell)
+{
+  const sl_grid_view *g = &r->lattice;
+  cell->c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
+  for (int a = 0; a < 3; ++a) cell->f[a] = (float)f[a];
+}
+
 /* The second step of sl__field_cell_at, for a point in the box whose lattice cell (i0, f) is
  * known: 0 in an empty brick; else the cell, its four rows (its eight corners) prefetched when
  * asked. */
@@ -272,8 +282,7 @@ static inline __attribute__((always_inline)) int sl__field_cell_of(const sl_rend
 {
   const sl_grid_view *g = &r->lattice;
   if (!sl__brick_occupied(r, i0)) return 0;
-  cell->c = r->fields + (((size_t)i0[2] * g->n[1] + i0[1]) * g->n[0] + i0[0]) * nf;
-  for (int a = 0; a < 3; ++a) cell->f[a] = (float)f[a];
+  sl__field_cell_fill(r, nf, i0, f, cell);
   if (prefetch) {
     const size_t sy = g->n[1] > 1 ? (size_t)g->n[0] * nf : 0;
     const size_t sz = g->n[2] > 1 ? (size_t)g->n[0] * g->n[1] * nf : 0;

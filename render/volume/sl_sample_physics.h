@@ -386,10 +386,11 @@ SL_INLINE void sl_segment_scatter_moments(SL_REAL beta, SL_REAL len, SL_REAL rat
 /* ---- A thick eye segment's parts in optical depth (the slicer's eye_batch.h, the march's
  * light_volume_march.c and shaders/volume_eye.glsl) ---- */
 
-/* A segment is taken whole where it is optically thin (below SL_PART_THIN at its middle), else in
- * parts whose bounds lie at optical depths 1/8, 1/4, 1/2 and 1 from where the medium starts in it
- * (optical depth SL_PART_CLEAR), then the rest, found on a profile of its total extinction at
- * SL_PART_PROFILE equal steps. A thick segment's light comes from its first mean free path, and a
+/* A segment is taken whole where it is optically thin (below SL_PART_THIN at its middle and at
+ * its far end; a march's step: at the next step's middle), else in parts whose bounds lie at
+ * optical depths 1/8, 1/4, 1/2 and 1 from where the medium starts in it (optical depth
+ * SL_PART_CLEAR), then the rest, found on a profile of its total extinction at SL_PART_PROFILE
+ * equal steps. A thick segment's light comes from its first mean free path, and a
  * cloud's surface is a ramp of extinction within one grid cell: parts fixed in length put that
  * surface at a different place in its part wherever the samples fall, which draws bands along
  * slices and streaks across a march's rays; parts fixed in optical depth follow the surface.

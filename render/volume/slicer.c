@@ -171,7 +171,7 @@ static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_f
       *tile_last = pk[2 * q + 1] > *tile_last ? pk[2 * q + 1] : *tile_last;
     }
     if (!n) continue;
-    row_lattice rl;
+    row_lattice rl, far;
     double mid_of[TILE], len_of[TILE];
     int lanes[TILE];
 #pragma GCC ivdep
@@ -184,8 +184,14 @@ static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_f
       mid_of[i] = mid;
       const double x[3] = {o[0] + mid * ray[rq], o[1] + mid * ray[rq + 1], o[2] + mid * ray[rq + 2]};
       row_lattice_set(&rl, i, g, x);
+      /* The far end, clamped into the box: a segment ending on its face reads the medium there
+       * however the rounding puts the end. */
+      const double t_far = mid + 0.5 * len_of[i];
+      double x_far[3];
+      for (int a = 0; a < 3; ++a) x_far[a] = sl__min(sl__max(o[a] + t_far * ray[rq + a], g->lo[a]), g->hi[a]);
+      row_lattice_set(&far, i, g, x_far);
     }
-    const int found = row_cells(r, nf, &rl, n, eye_samples, lanes, cells + cnt);
+    const int found = row_cells(r, nf, &rl, &far, n, eye_samples, lanes, cells + cnt);
     for (int s = 0; s < found; ++s) {
       const int i = lanes[s];
       sq[cnt + s] = (int)(row + active[i]), smid[cnt + s] = mid_of[i], slen[cnt + s] = len_of[i];
@@ -274,7 +280,7 @@ static inline __attribute__((always_inline)) void light_pass_tile(const slicer_f
                            ca * la[2] + cb * lb[2] + mid * prop[2]};
       row_lattice_set(&rl, i, g, x);
     }
-    const int found = row_cells(r, nf, &rl, tx1 - tx0, light_samples, lanes, cells + cnt);
+    const int found = row_cells(r, nf, &rl, NULL, tx1 - tx0, light_samples, lanes, cells + cnt);
     for (int s = 0; s < found; ++s)
       idx[cnt + s] = (int)(row + lanes[s]), seg[cnt + s] = len_of[lanes[s]], seg_end[cnt + s] = end_of[lanes[s]];
     cnt += found;

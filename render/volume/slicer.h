@@ -72,9 +72,12 @@ static inline __attribute__((always_inline)) void row_lattice_set(row_lattice *r
 
 /* The lanes 0..n-1 of a row that hold a sample, counted into *samples; of those, the ones whose
  * cell is in the box and in an occupied brick get their cell (prefetched) in cells[] and their
- * lane in lanes[], in order. Returns how many did. */
+ * lane in lanes[], in order; so do those whose far end's cell (far, unless NULL) is in an occupied
+ * brick, whose middle's empty cell reads no medium (the eye pass, where a cloud's surface may lie
+ * in the far half of a segment whose middle is clear). Returns how many did. */
 static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r, const int nf, const row_lattice *rl,
-                                                           int n, long *samples, int *lanes, sl__field_cell *cells)
+                                                           const row_lattice *far, int n, long *samples, int *lanes,
+                                                           sl__field_cell *cells)
 {
   int cnt = 0;
   for (int i = 0; i < n; ++i) {
@@ -82,7 +85,12 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
     ++*samples;
     const int cell[3] = {rl->i0[0][i], rl->i0[1][i], rl->i0[2][i]};
     const double frac[3] = {rl->f[0][i], rl->f[1][i], rl->f[2][i]};
-    if (!rl->inside[i] || !sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) continue;
+    if (!rl->inside[i]) continue;
+    if (!sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) {
+      const int far_cell[3] = {far ? far->i0[0][i] : 0, far ? far->i0[1][i] : 0, far ? far->i0[2][i] : 0};
+      if (!far || !far->inside[i] || !sl__brick_occupied(r, far_cell)) continue;
+      sl__field_cell_fill(r, nf, cell, frac, &cells[cnt]);
+    }
     lanes[cnt++] = i;
   }
   return cnt;
