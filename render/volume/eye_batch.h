@@ -164,20 +164,19 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     sl__field_fetch(r, nf, &cells[si], v);
     double beta_mid = 0.0;
     for (int j = 0; j < nf; ++j) beta_mid += v[j];
-    /* Thick where the extinction at its middle or at its far end (clamped into the box, so that
-     * a segment ending on the box's face reads the medium there however the rounding puts its end)
-     * makes it so: a cloud's surface in the far half of a segment whose middle is clear air would
-     * otherwise wait for the next slab's segment, drawing blocks wherever the surface crosses from
-     * one slab to the next (the supercell's anvil base seen from below). The march looks at its
-     * next step the same way (light_volume_march.c). */
+    /* Thick where the extinction at its middle or at its far end (sl__segment_far_end) makes it
+     * so: a cloud's surface in the far half of a segment whose middle is clear air would otherwise
+     * wait for the next slab's segment, drawing blocks wherever the surface crosses from one slab
+     * to the next (the supercell's anvil base seen from below). The march looks at its next step
+     * the same way (light_volume_march.c). */
     const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
-    const double t_far = smid[si] + 0.5 * slen[si];
-    const sl_grid_view *g = &r->lattice;
-    double x_far[3];
-    for (int a = 0; a < 3; ++a) x_far[a] = sl__min(sl__max(o[a] + t_far * rq[a], g->lo[a]), g->hi[a]);
-    const double beta_far = sl__total_extinction_n(r, nf, x_far);
-    const double thickness = sl__max(beta_mid, beta_far) * slen[si];
-    if (thickness < SL_PART_THIN || eye_deep(f, nwl, sq[si])) {
+    int thin = eye_deep(f, nwl, sq[si]);
+    if (!thin) {
+      double x_far[3];
+      sl__segment_far_end(&r->lattice, o, rq, smid[si] + 0.5 * slen[si], x_far);
+      thin = sl__max(beta_mid, sl__total_extinction_n(r, nf, x_far)) * slen[si] < SL_PART_THIN;
+    }
+    if (thin) {
       if (!(beta_mid > 0.0)) continue;
       for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
       b->q[live] = sq[si], b->mid[live] = smid[si], b->len[live] = slen[si], b->beta[live] = beta_mid;

@@ -263,6 +263,15 @@ static inline __attribute__((always_inline)) int sl__in_lattice_box(const sl_gri
          (x[2] <= g->hi[2]);
 }
 
+/* The far end o + t d of an eye segment, clamped into the lattice's box: a segment that ends on
+ * the box's face reads the medium there however the rounding puts its end (unclamped, a camera
+ * moved by a micrometre put it in or out and changed the frame). */
+static inline __attribute__((always_inline)) void sl__segment_far_end(const sl_grid_view *g, const double o[3],
+                                                                      const double *d, double t, double x[3])
+{
+  for (int a = 0; a < 3; ++a) x[a] = sl__min(sl__max(o[a] + t * d[a], g->lo[a]), g->hi[a]);
+}
+
 /* The cell (i0, f) of a point in the box, whatever its brick. */
 static inline __attribute__((always_inline)) void sl__field_cell_fill(const sl_renderer *r, const int nf,
                                                                       const int i0[3], const double f[3],

@@ -184,11 +184,8 @@ static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_f
       mid_of[i] = mid;
       const double x[3] = {o[0] + mid * ray[rq], o[1] + mid * ray[rq + 1], o[2] + mid * ray[rq + 2]};
       row_lattice_set(&rl, i, g, x);
-      /* The far end, clamped into the box: a segment ending on its face reads the medium there
-       * however the rounding puts the end. */
-      const double t_far = mid + 0.5 * len_of[i];
       double x_far[3];
-      for (int a = 0; a < 3; ++a) x_far[a] = sl__min(sl__max(o[a] + t_far * ray[rq + a], g->lo[a]), g->hi[a]);
+      sl__segment_far_end(g, o, ray + rq, mid + 0.5 * len_of[i], x_far);
       row_lattice_set(&far, i, g, x_far);
     }
     const int found = row_cells(r, nf, &rl, &far, n, eye_samples, lanes, cells + cnt);

@@ -87,8 +87,9 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
     const double frac[3] = {rl->f[0][i], rl->f[1][i], rl->f[2][i]};
     if (!rl->inside[i]) continue;
     if (!sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) {
-      const int far_cell[3] = {far ? far->i0[0][i] : 0, far ? far->i0[1][i] : 0, far ? far->i0[2][i] : 0};
-      if (!far || !far->inside[i] || !sl__brick_occupied(r, far_cell)) continue;
+      if (!far || !far->inside[i]) continue;
+      const int far_cell[3] = {far->i0[0][i], far->i0[1][i], far->i0[2][i]};
+      if (!sl__brick_occupied(r, far_cell)) continue;
       sl__field_cell_fill(r, nf, cell, frac, &cells[cnt]);
     }
     lanes[cnt++] = i;
