@@ -146,12 +146,13 @@ static inline int eye_dark(const eye_batch *b, const int nwl, const int s)
   return brightest < EYE_DARK_LOG;
 }
 
-/* The batch's parts from the tile's samples si.. (cells, pixels sq, middles smid, lengths slen of
- * cnt): per sample its fields and parts (scalar: a sample's parts vary), until the batch has no
- * room for another sample's parts; returns the next sample. */
+/* The batch's parts from the tile's samples si.. (cells, far ends' cells far_cells, pixels sq,
+ * middles smid, lengths slen of cnt): per sample its fields and parts (scalar: a sample's parts
+ * vary), until the batch has no room for another sample's parts; returns the next sample. */
 static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_frame *f, const int nf, const int nwl,
                                                                  eye_batch *b,
-                                                                 const sl__field_cell *cells, const int *sq,
+                                                                 const sl__field_cell *cells,
+                                                                 const sl__field_cell *far_cells, const int *sq,
                                                                  const double *smid, const double *slen, int si,
                                                                  const int cnt)
 {
@@ -171,10 +172,16 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
      * the same way (light_volume_march.c). */
     const double *rq = ray + (size_t)sq[si] * RAY_STRIDE;
     int thin = eye_deep(f, nwl, sq[si]);
-    if (!thin) {
-      double x_far[3];
-      sl__segment_far_end(&r->lattice, o, rq, smid[si] + 0.5 * slen[si], x_far);
-      thin = sl__max(beta_mid, sl__total_extinction_n(r, nf, x_far)) * slen[si] < SL_PART_THIN;
+    if (!thin && beta_mid * slen[si] < SL_PART_THIN) {
+      double beta_far;
+      if (nf > 1) {
+        beta_far = far_cells[si].c ? sl__field_total(r, nf, &far_cells[si]) : 0.0;
+      } else {
+        double x_far[3];
+        sl__segment_far_end(&r->lattice, o, rq, smid[si] + 0.5 * slen[si], x_far);
+        beta_far = sl__total_extinction_n(r, nf, x_far);
+      }
+      thin = beta_far * slen[si] < SL_PART_THIN;
     }
     if (thin) {
       if (!(beta_mid > 0.0)) continue;
@@ -186,7 +193,8 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
     }
     const double t_near = smid[si] - 0.5 * slen[si], step = slen[si] / SL_PART_PROFILE;
     double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
-    const double depth = sl__segment_profile(r, nf, o, rq, t_near, step, step_beta, tau);
+    sl__segment_profile_fields kept;
+    const double depth = sl__segment_profile(r, nf, o, rq, t_near, step, step_beta, tau, &kept);
     if (!(depth > 0.0)) continue;
     double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
     const int parts = sl_segment_parts(tau, t_near, step, t_near + slen[si], t_at, tau_at);
@@ -212,7 +220,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       const int part = back_to_front ? parts - 1 - p : p;
       const double len = t_at[part + 1] - t_at[part], mid = 0.5 * (t_at[part] + t_at[part + 1]);
       if (!(len > 0.0 && tau_at[part + 1] > tau_at[part])) continue;
-      const double beta = sl__segment_part_fields(r, nf, o, rq, t_near, step, step_beta, tau, tau_at[part],
+      const double beta = sl__segment_part_fields(r, nf, o, rq, t_near, step, step_beta, tau, &kept, tau_at[part],
                                                    tau_at[part + 1], len, b->fields[live]);
       if (!(beta > 0.0)) continue;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;

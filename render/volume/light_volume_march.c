@@ -210,7 +210,8 @@ static inline __attribute__((always_inline)) double march_thick_step(const sl_re
 {
   const double step = (te - ta) / SL_PART_PROFILE;
   double step_beta[SL_PART_PROFILE], tau[SL_PART_PROFILE + 1];
-  const double depth = sl__segment_profile(r, nf, o, d, ta, step, step_beta, tau);
+  sl__segment_profile_fields kept;
+  const double depth = sl__segment_profile(r, nf, o, d, ta, step, step_beta, tau, &kept);
   if (!(depth > 0.0)) return 0.0;
   double t_at[SL_PARTS_MAX + 1], tau_at[SL_PARTS_MAX + 1];
   const int parts = sl_segment_parts(tau, ta, step, te, t_at, tau_at);
@@ -218,7 +219,7 @@ static inline __attribute__((always_inline)) double march_thick_step(const sl_re
     const double len = t_at[p + 1] - t_at[p];
     if (!(len > 0.0 && tau_at[p + 1] > tau_at[p])) continue;
     float v[SL_MAX_FIELDS];
-    const double beta = sl__segment_part_fields(r, nf, o, d, ta, step, step_beta, tau, tau_at[p], tau_at[p + 1], len, v);
+    const double beta = sl__segment_part_fields(r, nf, o, d, ta, step, step_beta, tau, &kept, tau_at[p], tau_at[p + 1], len, v);
     if (beta > 0.0) march_batch_add(nf, b, t_at[p], t_at[p + 1], v, beta);
   }
   return depth;

@@ -150,7 +150,8 @@ static inline __attribute__((always_inline)) void ray_setup(slicer_frame *f, con
 static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_frame *f, const int nf, int k,
                                                                   double sk, int tx0, int ty0, int *sq,
                                                                   double *smid, double *slen,
-                                                                  sl__field_cell *cells, int *tile_last,
+                                                                  sl__field_cell *cells, sl__field_cell *far_cells,
+                                                                  int *tile_last,
                                                                   long *eye_samples)
 {
   const sl_renderer *r = f->r;
@@ -188,7 +189,7 @@ static inline __attribute__((always_inline)) int eye_tile_samples(const slicer_f
       sl__segment_far_end(g, o, ray + rq, mid + 0.5 * len_of[i], x_far);
       row_lattice_set(&far, i, g, x_far);
     }
-    const int found = row_cells(r, nf, &rl, &far, n, eye_samples, lanes, cells + cnt);
+    const int found = row_cells(r, nf, &rl, &far, n, eye_samples, lanes, cells + cnt, far_cells + cnt);
     for (int s = 0; s < found; ++s) {
       const int i = lanes[s];
       sq[cnt + s] = (int)(row + active[i]), smid[cnt + s] = mid_of[i], slen[cnt + s] = len_of[i];
@@ -211,12 +212,13 @@ static inline __attribute__((always_inline)) void eye_pass_tile(const slicer_fra
   const int tx0 = (int)(ti % eye_tiles->nx) * TILE, ty0 = (int)(ti / eye_tiles->nx) * TILE;
   int sq[TILE * TILE];
   double smid[TILE * TILE], slen[TILE * TILE];
-  sl__field_cell cells[TILE * TILE];
+  sl__field_cell cells[TILE * TILE], far_cells[TILE * TILE];
   int tile_last = k;
-  const int cnt = eye_tile_samples(f, nf, k, sk, tx0, ty0, sq, smid, slen, cells, &tile_last, eye_samples);
+  const int cnt =
+      eye_tile_samples(f, nf, k, sk, tx0, ty0, sq, smid, slen, cells, far_cells, &tile_last, eye_samples);
   const double s_start = sk - 0.5 * f->ds;
   for (int si = 0; si < cnt;) {
-    si = eye_batch_parts(f, nf, nwl, b, cells, sq, smid, slen, si, cnt);
+    si = eye_batch_parts(f, nf, nwl, b, cells, far_cells, sq, smid, slen, si, cnt);
     eye_batch_geometry(f, L, sun_lane, s_start, b);
     eye_batch_light(f, nf, nwl, L, light_di, light_dj, s_start, b);
     eye_batch_scatter(f, nf, nwl, b);
@@ -277,7 +279,7 @@ static inline __attribute__((always_inline)) void light_pass_tile(const slicer_f
                            ca * la[2] + cb * lb[2] + mid * prop[2]};
       row_lattice_set(&rl, i, g, x);
     }
-    const int found = row_cells(r, nf, &rl, NULL, tx1 - tx0, light_samples, lanes, cells + cnt);
+    const int found = row_cells(r, nf, &rl, NULL, tx1 - tx0, light_samples, lanes, cells + cnt, NULL);
     for (int s = 0; s < found; ++s)
       idx[cnt + s] = (int)(row + lanes[s]), seg[cnt + s] = len_of[lanes[s]], seg_end[cnt + s] = end_of[lanes[s]];
     cnt += found;

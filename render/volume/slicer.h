@@ -74,10 +74,12 @@ static inline __attribute__((always_inline)) void row_lattice_set(row_lattice *r
  * cell is in the box and in an occupied brick get their cell (prefetched) in cells[] and their
  * lane in lanes[], in order; so do those whose far end's cell (far, unless NULL) is in an occupied
  * brick, whose middle's empty cell reads no medium (the eye pass, where a cloud's surface may lie
- * in the far half of a segment whose middle is clear). Returns how many did. */
+ * in the far half of a segment whose middle is clear). With far, each such sample's far end's
+ * cell goes to far_cells[] (prefetched; its c NULL where the far end reads no medium: outside the
+ * box or in an empty brick). Returns how many did. */
 static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r, const int nf, const row_lattice *rl,
                                                            const row_lattice *far, int n, long *samples, int *lanes,
-                                                           sl__field_cell *cells)
+                                                           sl__field_cell *cells, sl__field_cell *far_cells)
 {
   int cnt = 0;
   for (int i = 0; i < n; ++i) {
@@ -86,10 +88,15 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
     const int cell[3] = {rl->i0[0][i], rl->i0[1][i], rl->i0[2][i]};
     const double frac[3] = {rl->f[0][i], rl->f[1][i], rl->f[2][i]};
     if (!rl->inside[i]) continue;
-    if (!sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) {
-      if (!far || !far->inside[i]) continue;
+    int far_occupied = 0;
+    if (far) {
       const int far_cell[3] = {far->i0[0][i], far->i0[1][i], far->i0[2][i]};
-      if (!sl__brick_occupied(r, far_cell)) continue;
+      const double far_frac[3] = {far->f[0][i], far->f[1][i], far->f[2][i]};
+      far_occupied = far->inside[i] && sl__field_cell_of(r, nf, far_cell, far_frac, 1, &far_cells[cnt]);
+      if (!far_occupied) far_cells[cnt].c = NULL;
+    }
+    if (!sl__field_cell_of(r, nf, cell, frac, 1, &cells[cnt])) {
+      if (!far_occupied) continue;
       sl__field_cell_fill(r, nf, cell, frac, &cells[cnt]);
     }
     lanes[cnt++] = i;
