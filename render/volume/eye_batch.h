@@ -142,7 +142,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
 static inline int eye_dark(const eye_batch *b, const int nwl, const int s)
 {
   double brightest = b->l0[0][s];
-  for (int c = 0; c < nwl; ++c) brightest = fmax(brightest, fmax(b->l0[c][s], b->l1[c][s]));
+  for (int c = 0; c < nwl; ++c) brightest = sl__max(brightest, sl__max(b->l0[c][s], b->l1[c][s]));
   return brightest < EYE_DARK_LOG;
 }
 
@@ -205,14 +205,14 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
      * a thin segment, 1 for a thick one. A longer one looks up at each part's middle. */
     const sl__sky_light *sky = &r->sky;
     const int sky_shared =
-        sky->radiance && slen[si] < fmin(fmin(sky->spacing[0], sky->spacing[1]), sky->spacing[2]);
+        sky->radiance && slen[si] < sl__min(sl__min(sky->spacing[0], sky->spacing[1]), sky->spacing[2]);
     double sky_t = 0.0;
     if (sky_shared) {
       const double tau_sky = depth < 1e-3 ? 0.5 * depth : 1.0 - depth / expm1(depth);
       int k_sky = 0;
       while (k_sky < SL_PART_PROFILE - 1 && tau[k_sky + 1] < tau_sky) k_sky++;
       const double span = tau[k_sky + 1] - tau[k_sky];
-      sky_t = t_near + (k_sky + (span > 0.0 ? fmin(fmax((tau_sky - tau[k_sky]) / span, 0.0), 1.0) : 0.5)) * step;
+      sky_t = t_near + (k_sky + (span > 0.0 ? sl__min(sl__max((tau_sky - tau[k_sky]) / span, 0.0), 1.0) : 0.5)) * step;
     }
     int sky_first = 1;
     for (int p = 0; p < parts; ++p) {

@@ -405,8 +405,9 @@ static inline double sl__total_extinction(const sl_renderer *r, const double x[3
  * SL__SEGMENT_PIECES pieces, each piece's cell found once; past that, equal pieces. A cloud's
  * surface where its density ramps up from zero within a cell is then integrated wherever it lies
  * along the segment, as a single midpoint is not. */
-static inline double sl__segment_optical_depth(const sl_renderer *r, const int nf, const double a_in[3],
-                                               const double b_in[3])
+static inline __attribute__((always_inline)) double sl__segment_optical_depth(const sl_renderer *r, const int nf,
+                                                                              const double a_in[3],
+                                                                              const double b_in[3])
 {
   const sl_grid_view *g = &r->lattice;
   /* Both ends lie in the box up to a rounding error (an eye sample and its light path's start
@@ -414,8 +415,8 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const int n
    * face and the segment lies in it, the rounding would otherwise put the whole segment in or out. */
   double a[3], b[3];
   for (int ax = 0; ax < 3; ++ax) {
-    a[ax] = fmin(fmax(a_in[ax], g->lo[ax]), g->hi[ax]);
-    b[ax] = fmin(fmax(b_in[ax], g->lo[ax]), g->hi[ax]);
+    a[ax] = sl__min(sl__max(a_in[ax], g->lo[ax]), g->hi[ax]);
+    b[ax] = sl__min(sl__max(b_in[ax], g->lo[ax]), g->hi[ax]);
   }
   double cut[3 * SL__SEGMENT_PIECES + 2];
   int n = 0;
@@ -423,7 +424,7 @@ static inline double sl__segment_optical_depth(const sl_renderer *r, const int n
   for (int ax = 0; ax < 3; ++ax) {
     const double ua = (a[ax] - g->origin[ax]) * g->inv_spacing[ax], ub = (b[ax] - g->origin[ax]) * g->inv_spacing[ax];
     if (g->n[ax] < 2 || ua == ub) continue;
-    const double lo = fmin(ua, ub), hi = fmax(ua, ub);
+    const double lo = sl__min(ua, ub), hi = sl__max(ua, ub);
     for (double k = floor(lo) + 1.0; k < hi && n < 3 * SL__SEGMENT_PIECES; k += 1.0) cut[n++] = (k - ua) / (ub - ua);
   }
   const int equal_pieces = n > SL__SEGMENT_PIECES;
