@@ -129,6 +129,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   int sun_row[EYE_BATCH];
   int angle_index[EYE_BATCH];
   int sky_first[EYE_BATCH]; /* the part looks the skylight up (else: as the part before) */
+  int whole[EYE_BATCH];     /* the part is its segment whole, an optically thin one */
   int live; /* parts held */
 } eye_batch;
 
@@ -187,7 +188,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       if (!(beta_mid > 0.0)) continue;
       for (int j = 0; j < nf; ++j) b->fields[live][j] = v[j];
       b->q[live] = sq[si], b->mid[live] = smid[si], b->len[live] = slen[si], b->beta[live] = beta_mid;
-      b->sky_t[live] = smid[si], b->sky_first[live] = 1;
+      b->sky_t[live] = smid[si], b->sky_first[live] = 1, b->whole[live] = 1;
       live++;
       continue;
     }
@@ -225,6 +226,7 @@ static inline __attribute__((always_inline)) int eye_batch_parts(const slicer_fr
       if (!(beta > 0.0)) continue;
       b->q[live] = sq[si], b->mid[live] = mid, b->len[live] = len, b->beta[live] = beta;
       b->sky_t[live] = sky_shared ? sky_t : mid, b->sky_first[live] = sky_first || !sky_shared;
+      b->whole[live] = 0;
       sky_first = 0;
       live++;
     }
@@ -287,6 +289,17 @@ static inline __attribute__((always_inline)) void eye_batch_geometry(const slice
   }
 }
 
+/* Part s's light paths within its slab at its near and far ends, as lengths at its own extinction
+ * (eye_batch_geometry's, replaced where the paths' own medium is integrated). */
+static inline __attribute__((always_inline)) void eye_part_paths(eye_batch *b, const int s, const double near,
+                                                                 const double far)
+{
+  b->path_near[s] = near, b->light_rate[s] = (far - near) * b->inv_len[s];
+  b->path_mid[s] = 0.5 * (near + far);
+  b->probe[s] = sl__max(b->path_mid[s], 1e-3 * b->inv_beta[s]);
+  b->inv_probe[s] = 1.0 / b->probe[s];
+}
+
 /* The light at each part's two ends: the light buffer's channels (ln I per wavelength and n), per
  * channel a loop over the batch; where an end's texels meet a cloud's surface at a grazing angle,
  * its light from its own entry (light_kink); n at the middle; the sunlight per extinction (the
@@ -333,7 +346,12 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
    * part's own extinction), each end's path takes the length that has the optical depth of the
    * path's own medium (sl__segment_optical_depth) at the part's extinction, unless the part's
    * sunlight is too dark to matter (eye_dark). The parts of one segment lie next to each other in
-   * the batch and share their ends, so each end is integrated once. */
+   * the batch and share their ends, so each end is integrated once. An optically thin segment,
+   * taken whole, integrates its middle's path alone and scales both ends' paths by what that
+   * path holds against the part's own extinction: exact where the medium the ends' paths cross
+   * differs from the part's by the same factor; one integral instead of two (against two: at most
+   * 4e-6 of the frame, relative RMSE, on the storms' surfaces seen from above and below, the
+   * eye pass 4-7 % faster; docs/PERFORMANCE.md). */
   int held_q = -1;
   double held_t[2] = {0.0, 0.0}, held_depth[2] = {0.0, 0.0};
   for (int s = 0; s < live; ++s) {
@@ -342,6 +360,15 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
         eye_dark(b, nwl, s))
       continue;
     const double *rq = ray + (size_t)b->q[s] * RAY_STRIDE;
+    if (b->whole[s]) {
+      const double path_mid = 0.5 * (path_near + path_far), t = b->mid[s];
+      const double x[3] = {o[0] + t * rq[0], o[1] + t * rq[1], o[2] + t * rq[2]};
+      const double p[3] = {x[0] - path_mid * prop[0], x[1] - path_mid * prop[1], x[2] - path_mid * prop[2]};
+      const double ratio =
+          path_mid > 0.0 ? sl__segment_optical_depth(r, nf, p, x) * b->inv_beta[s] / path_mid : 0.0;
+      eye_part_paths(b, s, ratio * path_near, ratio * path_far);
+      continue;
+    }
     double depth[2], te[2];
     for (int end = 0; end < 2; ++end) {
       te[end] = b->mid[s] + (end ? 0.5 : -0.5) * b->len[s];
@@ -356,11 +383,7 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
     }
     held_q = b->q[s];
     for (int end = 0; end < 2; ++end) held_t[end] = te[end], held_depth[end] = depth[end];
-    const double near = depth[0] * b->inv_beta[s], far = depth[1] * b->inv_beta[s];
-    b->path_near[s] = near, b->light_rate[s] = (far - near) * b->inv_len[s];
-    b->path_mid[s] = 0.5 * (near + far);
-    b->probe[s] = sl__max(b->path_mid[s], 1e-3 * b->inv_beta[s]);
-    b->inv_probe[s] = 1.0 / b->probe[s];
+    eye_part_paths(b, s, depth[0] * b->inv_beta[s], depth[1] * b->inv_beta[s]);
   }
 #pragma omp simd
   for (int s = 0; s < live; ++s) b->n[s] = 0.5 * (b->n[s] + b->n_far[s]);
