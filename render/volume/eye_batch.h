@@ -123,7 +123,7 @@ typedef struct __attribute__((aligned(64))) eye_batch {
   double radiance[SL_MAX_WAVELENGTHS][EYE_BATCH], sun[SL_MAX_WAVELENGTHS][EYE_BATCH];
   double sky_t[EYE_BATCH]; /* ray distance of the skylight's look-up for the part's segment */
   float sky[EYE_BATCH][SL_MAX_WAVELENGTHS + 4]; /* the skylight's M for each part (its segment's) */
-  ptrdiff_t texel[2][EYE_BATCH];
+  int texel[2][EYE_BATCH]; /* the light buffer's texel at each end (light_texel_lane) */
   float fields[EYE_BATCH][SL_MAX_FIELDS];
   int q[EYE_BATCH]; /* pixel */
   int sun_row[EYE_BATCH];
@@ -315,9 +315,12 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
   for (int c = 0; c <= nwl; ++c) {
     double *restrict out0 = c < nwl ? b->l0[c] : b->n, *restrict out1 = c < nwl ? b->l1[c] : b->n_far;
     const float *restrict st = L->state + c;
+    const int *restrict t0 = b->texel[0], *restrict t1 = b->texel[1];
+    const int di = (int)light_di, dj = (int)light_dj;
+#pragma omp simd
     for (int s = 0; s < live; ++s) {
-      out0[s] = light_bilinear_lane(st, light_di, light_dj, b->texel[0][s], b->tu[0][s], b->tv[0][s]);
-      out1[s] = light_bilinear_lane(st, light_di, light_dj, b->texel[1][s], b->tu[1][s], b->tv[1][s]);
+      out0[s] = light_bilinear_lane32(st, di, dj, t0[s], b->tu[0][s], b->tv[0][s]);
+      out1[s] = light_bilinear_lane32(st, di, dj, t1[s], b->tu[1][s], b->tv[1][s]);
     }
   }
   const double e_plane = s_start * inv_hp;

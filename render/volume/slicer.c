@@ -8,6 +8,7 @@
 #include "resolve.h"
 #include "slicer.h"
 
+#include <limits.h>
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
@@ -460,6 +461,11 @@ int sl__render_slicer(sl_renderer *r, const sl_camera *cam, const double fwd[3],
   const int acc_stride = nwl + 2; /* radiance per wavelength, transparency, depth numerator */
   L.stride = nwl + 1;
   const size_t nl = (size_t)L.w * L.h, np = (size_t)img->width * img->height;
+  if (nl * L.stride > INT_MAX) { /* the eye pass's texel offsets are ints (light_texel_lane) */
+    free(suntab);
+    return sl_fail(err, SL_ERR_ARG, "render: a %d x %d light buffer is too large (at most 2^31 values)", L.w,
+                   L.h);
+  }
   const int spans_kept = sl__texel_spans_hold(&r->texel_spans, prop, &L);
   if (!spans_kept && sl__texel_spans_prepare(&r->texel_spans, prop, &L)) {
     free(suntab);

@@ -110,7 +110,7 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
  * loop around it vectorises), then per channel the lerps (light_bilinear_lane; GCC 12 leaves that
  * loop scalar: "no vectype" for its float gathers by 64-bit index). */
 static inline __attribute__((always_inline)) void light_texel_lane(const light_buffer *L, const double x[3],
-                                                                   ptrdiff_t *texel, double *u, double *v)
+                                                                   int *texel, double *u, double *v)
 {
   double fa = (L->a[0] * x[0] + L->a[1] * x[1] + L->a[2] * x[2] - L->amin) * L->inv_texel_a - 0.5;
   double fb = (L->b[0] * x[0] + L->b[1] * x[1] + L->b[2] * x[2] - L->bmin) * L->inv_texel_b - 0.5;
@@ -122,7 +122,7 @@ static inline __attribute__((always_inline)) void light_texel_lane(const light_b
   j = j < top_j ? j : top_j;
   *u = L->w > 1 ? fa - i : 0.0;
   *v = L->h > 1 ? fb - j : 0.0;
-  *texel = ((ptrdiff_t)j * L->w + i) * L->stride;
+  *texel = (j * L->w + i) * L->stride;
 }
 
 /* The offsets of a texel's neighbours along a and b (di, dj), 0 along an axis of one texel. */
@@ -130,6 +130,16 @@ static inline void light_texel_steps(const light_buffer *L, ptrdiff_t *di, ptrdi
 {
   *di = L->w > 1 ? L->stride : 0;
   *dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
+}
+
+/* The same with 32-bit offsets (the light buffer's texels and channels are fewer than 2^31,
+ * sl__light_buffer_lattice), whose float gathers GCC vectorises. */
+static inline __attribute__((always_inline)) double light_bilinear_lane32(const float *st, int di, int dj, int t,
+                                                                          double u, double v)
+{
+  const double r0 = st[t] + u * (st[t + di] - st[t]);
+  const double r1 = st[t + dj] + u * (st[t + dj + di] - st[t + dj]);
+  return r0 + v * (r1 - r0);
 }
 
 static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, ptrdiff_t di, ptrdiff_t dj,
