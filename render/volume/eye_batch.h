@@ -319,8 +319,8 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
     const int di = (int)light_di, dj = (int)light_dj;
 #pragma omp simd
     for (int s = 0; s < live; ++s) {
-      out0[s] = light_bilinear_lane32(st, di, dj, t0[s], b->tu[0][s], b->tv[0][s]);
-      out1[s] = light_bilinear_lane32(st, di, dj, t1[s], b->tu[1][s], b->tv[1][s]);
+      out0[s] = light_bilinear_lane(st, di, dj, t0[s], b->tu[0][s], b->tv[0][s]);
+      out1[s] = light_bilinear_lane(st, di, dj, t1[s], b->tu[1][s], b->tv[1][s]);
     }
   }
   const double e_plane = s_start * inv_hp;

@@ -107,8 +107,10 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
 /* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at a point's projection,
  * in two steps for the eye pass's loops over a batch of samples: first per sample its texel and
  * weights (light_texel_lane, no branch: the buffer's one-texel axes are selections, so the batch
- * loop around it vectorises), then per channel the lerps (light_bilinear_lane; GCC 12 leaves that
- * loop scalar: "no vectype" for its float gathers by 64-bit index). */
+ * loop around it vectorises), then per channel the lerps (light_bilinear_lane). The offsets are
+ * ints, which the frame's buffer size bounds (sl__render_slicer refuses 2^31 values or more):
+ * with 64-bit ones GCC 12 left the lerps' loop scalar ("no vectype" for float gathers by a 64-bit
+ * index). */
 static inline __attribute__((always_inline)) void light_texel_lane(const light_buffer *L, const double x[3],
                                                                    int *texel, double *u, double *v)
 {
@@ -132,18 +134,8 @@ static inline void light_texel_steps(const light_buffer *L, ptrdiff_t *di, ptrdi
   *dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
 }
 
-/* The same with 32-bit offsets (the light buffer's texels and channels are fewer than 2^31,
- * sl__light_buffer_lattice), whose float gathers GCC vectorises. */
-static inline __attribute__((always_inline)) double light_bilinear_lane32(const float *st, int di, int dj, int t,
-                                                                          double u, double v)
-{
-  const double r0 = st[t] + u * (st[t + di] - st[t]);
-  const double r1 = st[t + dj] + u * (st[t + dj + di] - st[t + dj]);
-  return r0 + v * (r1 - r0);
-}
-
-static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, ptrdiff_t di, ptrdiff_t dj,
-                                                                        ptrdiff_t t, double u, double v)
+static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, int di, int dj, int t,
+                                                                        double u, double v)
 {
   const double r0 = st[t] + u * (st[t + di] - st[t]);
   const double r1 = st[t + dj] + u * (st[t + dj + di] - st[t + dj]);
