@@ -30,15 +30,9 @@ static inline __attribute__((always_inline)) double sl__segment_profile(const sl
     const double x[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
     if (nf > 1) {
       /* sl__total_extinction_n's sum, of the fields kept */
-      float *v = kept->v[k];
-      sl__field_cell cell;
+      sl__sample_fields_n(r, nf, x, kept->v[k]);
       double total = 0.0;
-      if (sl__field_cell_at(r, nf, x, 0, &cell)) {
-        sl__field_fetch(r, nf, &cell, v);
-        for (int j = 0; j < nf; ++j) total += v[j];
-      } else {
-        for (int j = 0; j < nf; ++j) v[j] = 0.0f;
-      }
+      for (int j = 0; j < nf; ++j) total += kept->v[k][j];
       step_beta[k] = total;
     } else {
       step_beta[k] = sl__total_extinction_n(r, nf, x);
