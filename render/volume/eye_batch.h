@@ -300,8 +300,7 @@ static inline __attribute__((always_inline)) void eye_part_paths(eye_batch *b, c
   b->inv_probe[s] = 1.0 / b->probe[s];
 }
 
-/* The light at each part's two ends: the light buffer's channels (ln I per wavelength and n), per
- * channel a loop over the batch; where an end's texels meet a cloud's surface at a grazing angle,
+/* The light at each part's two ends: the light buffer's channels (ln I per wavelength and n); where an end's texels meet a cloud's surface at a grazing angle,
  * its light from its own entry (light_kink); n at the middle; the sunlight per extinction (the
  * sunlight's loop vectorises). */
 static inline __attribute__((always_inline)) void eye_batch_light(const slicer_frame *f, const int nf, const int nwl,
@@ -312,17 +311,14 @@ static inline __attribute__((always_inline)) void eye_batch_light(const slicer_f
   const double *ray = f->ray, *o = f->cam->position, *h = f->h, *prop = f->prop;
   const double inv_hp = f->inv_hp, kink_step = 0.5 * f->entry_step; /* light_kink's light steps */
   const int kink = f->kink, live = b->live;
-  for (int c = 0; c <= nwl; ++c) {
-    double *restrict out0 = c < nwl ? b->l0[c] : b->n, *restrict out1 = c < nwl ? b->l1[c] : b->n_far;
-    const float *restrict st = L->state + c;
-    const int *restrict t0 = b->texel[0], *restrict t1 = b->texel[1];
-    const int di = (int)light_di, dj = (int)light_dj;
-#pragma omp simd
-    for (int s = 0; s < live; ++s) {
-      out0[s] = light_bilinear_lane(st, di, dj, t0[s], b->tu[0][s], b->tv[0][s]);
-      out1[s] = light_bilinear_lane(st, di, dj, t1[s], b->tu[1][s], b->tv[1][s]);
+  for (int s = 0; s < live; ++s)
+    for (int end = 0; end < 2; ++end) {
+      double value[SL_MAX_WAVELENGTHS + 4];
+      light_bilinear_texel(L->state, (int)light_di, (int)light_dj, b->texel[end][s], b->tu[end][s], b->tv[end][s],
+                           nwl + 1, value);
+      for (int c = 0; c < nwl; ++c) (end ? b->l1 : b->l0)[c][s] = value[c];
+      (end ? b->n_far : b->n)[s] = value[nwl];
     }
-  }
   const double e_plane = s_start * inv_hp;
   for (int s = 0; s < (kink ? live : 0); ++s)
     for (int end = 0; end < 2; ++end) {

@@ -472,7 +472,9 @@ int sl__render_slicer(sl_renderer *r, const sl_camera *cam, const double fwd[3],
     return sl_fail(err, SL_ERR_NOMEM, "render: out of memory for the light buffer");
   }
   L.u_in = r->texel_spans.u_in, L.u_out = r->texel_spans.u_out, L.u_entry = r->texel_spans.u_entry;
-  L.state = malloc(nl * L.stride * sizeof(float));
+  L.state = malloc((nl * L.stride + LIGHT_STATE_PAD) * sizeof(float));
+  if (L.state)
+    for (int i = 0; i < LIGHT_STATE_PAD; ++i) L.state[nl * L.stride + i] = 0.0f;
   /* The entry kink (light_kink) where flat tops meet the sunlight at a grazing angle: under a sun
    * below KINK_SUN_ELEVATION. Where it runs it costs up to half an eye pass (docs/PERFORMANCE.md),
    * which a higher sun's frames need not pay. */

@@ -107,10 +107,8 @@ static inline __attribute__((always_inline)) int row_cells(const sl_renderer *r,
 /* Bilinear look-up of the light buffer's state (ln I per wavelength and n) at a point's projection,
  * in two steps for the eye pass's loops over a batch of samples: first per sample its texel and
  * weights (light_texel_lane, no branch: the buffer's one-texel axes are selections, so the batch
- * loop around it vectorises), then per channel the lerps (light_bilinear_lane). The offsets are
- * ints, which the frame's buffer size bounds (sl__render_slicer refuses 2^31 values or more):
- * with 64-bit ones GCC 12 left the lerps' loop scalar ("no vectype" for float gathers by a 64-bit
- * index). */
+ * loop around it vectorises), then the lerps (light_bilinear_texel). The offsets are ints, which
+ * the frame's buffer size bounds (sl__render_slicer refuses 2^31 values or more). */
 static inline __attribute__((always_inline)) void light_texel_lane(const light_buffer *L, const double x[3],
                                                                    int *texel, double *u, double *v)
 {
@@ -134,12 +132,31 @@ static inline void light_texel_steps(const light_buffer *L, ptrdiff_t *di, ptrdi
   *dj = L->h > 1 ? (ptrdiff_t)L->w * L->stride : 0;
 }
 
-static inline __attribute__((always_inline)) double light_bilinear_lane(const float *st, int di, int dj, int t,
-                                                                        double u, double v)
+/* Floats past the last texel's channels that the buffer holds (zeros), so that
+ * light_bilinear_texel's four-channel loads stay inside it. */
+#define LIGHT_STATE_PAD 3
+
+typedef double light_v4d __attribute__((vector_size(32)));
+
+/* The light buffer's channels 0..channels-1 at texel t (its neighbours di, dj apart), weights u
+ * and v, into out[] (rounded up to a multiple of four: the lanes past `channels` hold junk): a
+ * texel's channels lie together, so four of them are one 16-byte load per corner and their lerps
+ * one vector operation, where a loop per channel over the batch gathered each float alone (2.7
+ * times the cycles). Each channel's value is bitwise that of the scalar lerps
+ * st[t] + u (st[t + di] - st[t]) in double, the corners' difference in float. */
+static inline __attribute__((always_inline)) void light_bilinear_texel(const float *st, int di, int dj, int t,
+                                                                       double u, double v, const int channels,
+                                                                       double *out)
 {
-  const double r0 = st[t] + u * (st[t + di] - st[t]);
-  const double r1 = st[t + dj] + u * (st[t + dj + di] - st[t + dj]);
-  return r0 + v * (r1 - r0);
+  for (int c = 0; c < channels; c += 4) {
+    const float *p = st + t + c;
+    const sl__v4f c00 = sl__load_v4f(p), c10 = sl__load_v4f(p + di);
+    const sl__v4f c01 = sl__load_v4f(p + dj), c11 = sl__load_v4f(p + dj + di);
+    const light_v4d r0 = __builtin_convertvector(c00, light_v4d) + u * __builtin_convertvector(c10 - c00, light_v4d);
+    const light_v4d r1 = __builtin_convertvector(c01, light_v4d) + u * __builtin_convertvector(c11 - c01, light_v4d);
+    const light_v4d r = r0 + v * (r1 - r0);
+    memcpy(out + c, &r, sizeof r);
+  }
 }
 
 /* The light steps of one tile's samples in a slice, collected first so that the loop over them
