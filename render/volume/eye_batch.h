@@ -300,8 +300,9 @@ static inline __attribute__((always_inline)) void eye_part_paths(eye_batch *b, c
   b->inv_probe[s] = 1.0 / b->probe[s];
 }
 
-/* The light at each part's two ends: the light buffer's channels (ln I per wavelength and n); where an end's texels meet a cloud's surface at a grazing angle,
- * its light from its own entry (light_kink); n at the middle; the sunlight per extinction (the
+/* The light at each part's two ends: the light buffer's channels (ln I per wavelength and n,
+ * light_bilinear_texel); where an end's texels meet a cloud's surface at a grazing angle, its
+ * light from its own entry (light_kink); n at the middle; the sunlight per extinction (the
  * sunlight's loop vectorises). */
 static inline __attribute__((always_inline)) void eye_batch_light(const slicer_frame *f, const int nf, const int nwl,
                                                                   const light_buffer *L, ptrdiff_t light_di,
