@@ -130,19 +130,29 @@ static inline __attribute__((always_inline)) double sl__lattice_u(const sl_grid_
   return u < 0.0 ? 0.0 : u > umax ? umax : u;
 }
 
-/* The lattice cell holding x (clamped into the grid, the rule of sl_grid_sample): its lower
- * corner i0 and the fractions f within it. */
-static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid_view *g, const double x[3], int i0[3],
-                                                                   double f[3])
+/* The lattice cell at lattice coordinates u_in (clamped into the grid, the rule of
+ * sl_grid_sample): its lower corner i0 and the fractions f within it. */
+static inline __attribute__((always_inline)) void sl__lattice_cell_at_u(const sl_grid_view *g, const double u_in[3],
+                                                                        int i0[3], double f[3])
 {
   for (int a = 0; a < 3; ++a) {
-    const double u = sl__lattice_u(g, x, a);
+    const double umax = (double)(g->n[a] - 1);
+    const double u = u_in[a] < 0.0 ? 0.0 : u_in[a] > umax ? umax : u_in[a];
     int i = (int)u;
     if (i > g->n[a] - 2) i = g->n[a] - 2;
     if (i < 0) i = 0;
     i0[a] = i;
     f[a] = g->n[a] > 1 ? u - i : 0.0;
   }
+}
+
+/* The lattice cell holding x (sl__lattice_cell_at_u at x's lattice coordinates). */
+static inline __attribute__((always_inline)) void sl__lattice_cell(const sl_grid_view *g, const double x[3], int i0[3],
+                                                                   double f[3])
+{
+  const double u[3] = {(x[0] - g->origin[0]) * g->inv_spacing[0], (x[1] - g->origin[1]) * g->inv_spacing[1],
+                       (x[2] - g->origin[2]) * g->inv_spacing[2]};
+  sl__lattice_cell_at_u(g, u, i0, f);
 }
 
 /* The index of the 8^3 brick holding lattice cell i0 (in empty_radius, brick_beta_max). */
@@ -421,11 +431,15 @@ static inline __attribute__((always_inline)) double sl__segment_optical_depth(co
   double cut[3 * SL__SEGMENT_PIECES + 2];
   int n = 0;
   cut[n++] = 0.0;
+  /* The ends in lattice coordinates, in which the pieces' cells and Gauss points are found. */
+  double ua[3], du[3];
   for (int ax = 0; ax < 3; ++ax) {
-    const double ua = (a[ax] - g->origin[ax]) * g->inv_spacing[ax], ub = (b[ax] - g->origin[ax]) * g->inv_spacing[ax];
-    if (g->n[ax] < 2 || ua == ub) continue;
-    const double lo = sl__min(ua, ub), hi = sl__max(ua, ub);
-    for (double k = floor(lo) + 1.0; k < hi && n < 3 * SL__SEGMENT_PIECES; k += 1.0) cut[n++] = (k - ua) / (ub - ua);
+    ua[ax] = (a[ax] - g->origin[ax]) * g->inv_spacing[ax];
+    const double ub = (b[ax] - g->origin[ax]) * g->inv_spacing[ax];
+    du[ax] = ub - ua[ax];
+    if (g->n[ax] < 2 || ua[ax] == ub) continue;
+    const double lo = sl__min(ua[ax], ub), hi = sl__max(ua[ax], ub);
+    for (double k = floor(lo) + 1.0; k < hi && n < 3 * SL__SEGMENT_PIECES; k += 1.0) cut[n++] = (k - ua[ax]) / du[ax];
   }
   const int equal_pieces = n > SL__SEGMENT_PIECES;
   if (equal_pieces) {
@@ -453,19 +467,22 @@ static inline __attribute__((always_inline)) double sl__segment_optical_depth(co
       continue;
     }
     /* A piece between node planes lies in one lattice cell: found once, at its middle (in the box,
-     * as both ends are), its brick tested once, and each Gauss point's fractions taken in it as
-     * sl__lattice_cell takes them. */
+     * as both ends are), its brick tested once, and each Gauss point's fractions taken in it, all
+     * from the ends' lattice coordinates (linear along the segment) as sl__lattice_cell_at_u
+     * takes them. */
     const double lm = 0.5 * (l0 + l1);
-    const double xm[3] = {a[0] + lm * (b[0] - a[0]), a[1] + lm * (b[1] - a[1]), a[2] + lm * (b[2] - a[2])};
+    const double um[3] = {ua[0] + lm * du[0], ua[1] + lm * du[1], ua[2] + lm * du[2]};
     int i0[3];
     double fm[3];
-    sl__lattice_cell(g, xm, i0, fm);
+    sl__lattice_cell_at_u(g, um, i0, fm);
     sl__field_cell cell;
     if (!sl__field_cell_of(r, nf, i0, fm, 0, &cell)) continue;
     for (int k = 0; k < 2; ++k) {
       const double l = lm + (k ? node : -node) * (l1 - l0);
-      const double x[3] = {a[0] + l * (b[0] - a[0]), a[1] + l * (b[1] - a[1]), a[2] + l * (b[2] - a[2])};
-      for (int ax = 0; ax < 3; ++ax) cell.f[ax] = g->n[ax] > 1 ? (float)(sl__lattice_u(g, x, ax) - i0[ax]) : 0.0f;
+      for (int ax = 0; ax < 3; ++ax) {
+        const double u = sl__min(sl__max(ua[ax] + l * du[ax], 0.0), (double)(g->n[ax] - 1));
+        cell.f[ax] = g->n[ax] > 1 ? (float)(u - i0[ax]) : 0.0f;
+      }
       sum += 0.5 * (l1 - l0) * sl__field_total(r, nf, &cell);
     }
   }
