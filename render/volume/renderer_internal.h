@@ -123,21 +123,26 @@ static inline __attribute__((always_inline)) double sl__box_exit_distance(const 
   return best > 0.0 ? best : 0.0;
 }
 
-/* x's coordinate along axis a in lattice units, clamped into the grid (the rule of sl_grid_sample). */
-static inline __attribute__((always_inline)) double sl__lattice_u(const sl_grid_view *g, const double x[3], int a)
+/* A lattice coordinate u along axis a clamped into the grid (the rule of sl_grid_sample). */
+static inline __attribute__((always_inline)) double sl__lattice_clamp(const sl_grid_view *g, double u, int a)
 {
-  const double u = (x[a] - g->origin[a]) * g->inv_spacing[a], umax = (double)(g->n[a] - 1);
+  const double umax = (double)(g->n[a] - 1);
   return u < 0.0 ? 0.0 : u > umax ? umax : u;
 }
 
-/* The lattice cell at lattice coordinates u_in (clamped into the grid, the rule of
- * sl_grid_sample): its lower corner i0 and the fractions f within it. */
+/* x's coordinate along axis a in lattice units, clamped into the grid. */
+static inline __attribute__((always_inline)) double sl__lattice_u(const sl_grid_view *g, const double x[3], int a)
+{
+  return sl__lattice_clamp(g, (x[a] - g->origin[a]) * g->inv_spacing[a], a);
+}
+
+/* The lattice cell at lattice coordinates u_in (clamped into the grid, sl__lattice_clamp): its
+ * lower corner i0 and the fractions f within it. */
 static inline __attribute__((always_inline)) void sl__lattice_cell_at_u(const sl_grid_view *g, const double u_in[3],
                                                                         int i0[3], double f[3])
 {
   for (int a = 0; a < 3; ++a) {
-    const double umax = (double)(g->n[a] - 1);
-    const double u = u_in[a] < 0.0 ? 0.0 : u_in[a] > umax ? umax : u_in[a];
+    const double u = sl__lattice_clamp(g, u_in[a], a);
     int i = (int)u;
     if (i > g->n[a] - 2) i = g->n[a] - 2;
     if (i < 0) i = 0;
@@ -480,7 +485,7 @@ static inline __attribute__((always_inline)) double sl__segment_optical_depth(co
     for (int k = 0; k < 2; ++k) {
       const double l = lm + (k ? node : -node) * (l1 - l0);
       for (int ax = 0; ax < 3; ++ax) {
-        const double u = sl__min(sl__max(ua[ax] + l * du[ax], 0.0), (double)(g->n[ax] - 1));
+        const double u = sl__lattice_clamp(g, ua[ax] + l * du[ax], ax);
         cell.f[ax] = g->n[ax] > 1 ? (float)(u - i0[ax]) : 0.0f;
       }
       sum += 0.5 * (l1 - l0) * sl__field_total(r, nf, &cell);
