@@ -23,5 +23,6 @@ uniform sampler2D slAms;        // texel (angle index, slAmsRow[j, c] + k): Ams_
 #define SL_LOG_PRODUCT(j, c, k) texelFetch(slLogProduct, ivec2((k), (j) * SL_MAX_WAVELENGTHS + (c)), 0).r
 #define SL_FORWARD(j, c, k) texelFetch(slForward, ivec2((k), (j) * SL_MAX_WAVELENGTHS + (c)), 0).r
 #define SL_AMS(j, c, k, i) texelFetch(slAms, ivec2((i), slAmsRow[(j) * SL_MAX_WAVELENGTHS + (c)] + (k)), 0).r
+#define SL_AMS_PAIR(j, c, k, i, lo, hi) lo = SL_AMS(j, c, k, i); hi = SL_AMS(j, c, k, (i) + 1)
 #define SL_MODE_LOW_ALBEDO 0
 #define SL_MODE_EQ25 2

@@ -19,6 +19,8 @@
 /* ---- C ---- */
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "lighting.h"
 
@@ -76,6 +78,23 @@
 /* An int index (orders x angles is far below 2^31): GCC emulates the gather of a vectorised loop
  * over int offsets, not over 64-bit ones. */
 #define SL_AMS(j, c, k, i) (m->table[j][c]->ams[(k) * m->table[j][c]->n_angles + (i)])
+/* Ams at angle rows i and i + 1 into lo and hi (as SL_AMS twice): one 8-byte load of the two
+ * neighbouring floats, which a loop over samples vectorises as one 64-bit gather where two reads
+ * are two 32-bit gathers (the eye pass's table look-ups are mostly these gathers). */
+#define SL_AMS_PAIR(j, c, k, i, lo, hi) sl__float_pair(&SL_AMS(j, c, k, i), &(lo), &(hi))
+#if __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "sl__float_pair takes the lower address as the low half"
+#endif
+static inline __attribute__((always_inline)) void sl__float_pair(const float *p, SL_REAL *lo, SL_REAL *hi)
+{
+  uint64_t bits;
+  memcpy(&bits, p, sizeof bits);
+  const uint32_t b0 = (uint32_t)bits, b1 = (uint32_t)(bits >> 32);
+  float f0, f1;
+  memcpy(&f0, &b0, sizeof f0);
+  memcpy(&f1, &b1, sizeof f1);
+  *lo = f0, *hi = f1;
+}
 #define SL_MODE_LOW_ALBEDO SL_LIGHTING_LOW_ALBEDO
 #define SL_MODE_EQ25 SL_LIGHTING_MULTIPLE_EQ25
 #define SL_PI 3.14159265358979323846
@@ -242,7 +261,8 @@ SL_INLINE SL_REAL sl_ams_at_angle(SL_MODEL_PARAM int j, int c, int k, int angle_
 {
   int N = SL_MAX_ORDER(j, c);
   int kk = k > N ? N : k;
-  SL_REAL a0 = SL_AMS(j, c, kk, angle_index), a1 = SL_AMS(j, c, kk, angle_index + 1);
+  SL_REAL a0, a1;
+  SL_AMS_PAIR(j, c, kk, angle_index, a0, a1);
   return a0 + angle_weight * (a1 - a0);
 }
 

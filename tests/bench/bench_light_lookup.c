@@ -6,19 +6,13 @@
 // Usage: bench_light_lookup [rounds]
 #include "slicer.h"
 
+#include "bench_peer.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 enum { PARTS = 32, BATCHES = 4096 };
-
-static double now(void)
-{
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* The peer: per channel, the scalar lerps over the batch, which the compiler vectorises as gathers. */
 static inline __attribute__((always_inline)) void per_channel(const float *st, int di, int dj, int channels,
@@ -102,17 +96,16 @@ int main(int argc, char **argv)
     double best_peer = 1e30, best_new = 1e30, sink = 0.0;
     for (int r = 0; r < rounds; ++r) {
       /* alternated round by round, each round every batch twice (a part's two ends) */
-      double t0 = now();
+      double t0 = bench_now();
       for (int k = 0; k < 2 * BATCHES; ++k)
         peer(st, di, dj, stride, t + (k % BATCHES) * PARTS, u + (k % BATCHES) * PARTS, v + (k % BATCHES) * PARTS, a),
             sink += a[0][k % PARTS];
-      double t1 = now();
+      double t1 = bench_now();
       for (int k = 0; k < 2 * BATCHES; ++k)
         ours(st, di, dj, stride, t + (k % BATCHES) * PARTS, u + (k % BATCHES) * PARTS, v + (k % BATCHES) * PARTS, b),
             sink += b[0][k % PARTS];
-      double t2 = now();
-      best_peer = t1 - t0 < best_peer ? t1 - t0 : best_peer;
-      best_new = t2 - t1 < best_new ? t2 - t1 : best_new;
+      double t2 = bench_now();
+      bench_keep_best(t0, t1, t2, &best_peer, &best_new);
     }
     const double per = 1e9 / ((double)BATCHES * PARTS);
     printf("%2d wl: per channel (peer) %.1f ns a part, per part %.1f ns, ratio peer / per part %.2f; bitwise %s "
