@@ -75,8 +75,8 @@
 #define SL_MAX_ORDER(j, c) (m->max_order[j][c])
 #define SL_LOG_PRODUCT(j, c, k) (m->log_product[j][c][k])
 #define SL_FORWARD(j, c, k) (m->table[j][c]->forward[k])
-/* An int index (orders x angles is far below 2^31): GCC emulates the gather of a vectorised loop
- * over int offsets, not over 64-bit ones. */
+/* An int index (orders x angles is far below 2^31), so that a vectorised loop gathers over 32-bit
+ * offsets. */
 #define SL_AMS(j, c, k, i) (m->table[j][c]->ams[(k) * m->table[j][c]->n_angles + (i)])
 /* Ams at angle rows i and i + 1 into lo and hi (as SL_AMS twice): one 8-byte load of the two
  * neighbouring floats, which a loop over samples vectorises as one 64-bit gather where two reads

@@ -141,9 +141,11 @@ typedef double light_v4d __attribute__((vector_size(32)));
 /* The light buffer's channels 0..channels-1 at texel t (its neighbours di, dj apart), weights u
  * and v, into out[] (rounded up to a multiple of four: the lanes past `channels` hold junk): a
  * texel's channels lie together, so four of them are one 16-byte load per corner and their lerps
- * one vector operation, where a loop per channel over the batch gathered each float alone (1.2
- * times the time, tests/bench/bench_light_lookup). Each channel's value is bitwise that of the
- * scalar lerps st[t] + u (st[t + di] - st[t]) in double, the corners' difference in float. */
+ * one vector operation, against a loop per channel over the batch that gathers each float
+ * (tests/bench/bench_light_lookup: this form 1.27 times faster at 16 wavelengths, the loop per
+ * channel slightly faster at 3 where the gathers are instructions; docs/PERFORMANCE.md). Each
+ * channel's value is bitwise that of the scalar lerps st[t] + u (st[t + di] - st[t]) in double,
+ * the corners' difference in float. */
 static inline __attribute__((always_inline)) void light_bilinear_texel(const float *st, int di, int dj, int t,
                                                                        double u, double v, const int channels,
                                                                        double *out)
